@@ -1,0 +1,121 @@
+// core/contact_resolver.h — the paper's multiple-point collision resolver, written once for 2D and 3D.
+//
+// Owns: contact nodes (the paper's section 3: point, body A, body B, normal pointing away from B towards A,
+// restitution), the assembly of the collision LCP (A per eq. (20), b per eq. (19)), its Coulomb-friction
+// extension (a Stewart–Trinkle / Anitescu–Potra pyramid in the same LCP), the single-contact closed form and the
+// application of the impulses to body velocities (eq. (15)).
+//
+// The dimension enters only through a trait `D` (resolver2d/dim2.h, resolver3d/dim3.h) that says what a vector,
+// an angular quantity and an inverse inertia are, and how r x n and I^-1 act. Static and kinematic bodies are
+// bodies with zero inverse mass and zero inverse inertia: the paper's "dummy rigid body of infinite mass".
+//
+// Invariants: rows are numbered in input order; every loop runs in index order, so the assembled LCP is a pure
+// function of the input (no pointer order, no hash order).
+#pragma once
+
+#include "lcp.h"
+
+#include <vector>
+
+namespace unison {
+
+/// State of one body as the resolver sees it (SI units). For a static body set invMass = 0 and invInertia = 0.
+template <class D>
+struct ResolverBody {
+    double invMass = 0.0;                            ///< 1 / kg (0 = infinite mass)
+    typename D::InvInertia invInertia = D::zeroInvInertia();  ///< world-frame inverse inertia, 1 / (kg m^2)
+    typename D::Vec position = D::zeroVec();         ///< centre of mass x (m)
+    typename D::Vec velocity = D::zeroVec();         ///< v (m/s)
+    typename D::Ang angularVelocity = D::zeroAng();  ///< omega (rad/s)
+};
+
+/// The paper's contact node. When more than two bodies meet at one point, make one node per colliding pair.
+template <class D>
+struct ContactNode {
+    int a = -1;                          ///< body A (receives +f n)
+    int b = -1;                          ///< body B (receives -f n)
+    typename D::Vec point = D::zeroVec();   ///< common contact point p (m), world frame
+    typename D::Vec normal = D::zeroVec();  ///< unit normal, pointing away from B towards A
+    double restitution = 0.0;            ///< coefficient of restitution e of this point, in [0, 1]
+    double friction = 0.0;               ///< Coulomb coefficient mu (used only by the friction LCP)
+    double bias = 0.0;                   ///< separation speed the node must reach (m/s), e.g. position
+                                         ///< correction: b_i -= bias; >= 0
+};
+
+struct ResolverOptions {
+    /// Approach speeds (m/s) at or below this use e = 0: "slower or resting contacts" of DESIGN.md step 5.
+    /// The paper's pure impulse model is threshold 0.
+    double restitutionThreshold = 0.0;
+    /// Tangent directions per contact in the friction pyramid (2D: always 2, +t and -t; 3D: even, >= 4).
+    int frictionDirections = 4;
+    LcpOptions lcp;
+};
+
+/// Layout of a friction LCP built by assembleFrictionLcp: for nc contacts and k directions,
+/// unknowns are [normal impulses (nc) | tangential impulses (nc*k, contact-major) | slacks lambda (nc)].
+struct FrictionLayout {
+    int contacts = 0;
+    int directions = 0;
+    int normalOffset() const { return 0; }
+    int tangentOffset() const { return contacts; }
+    int slackOffset() const { return contacts + contacts * directions; }
+    int size() const { return contacts * (directions + 2); }
+};
+
+struct Resolution {
+    LcpStatus status = LcpStatus::invalid_input;
+    int pivots = 0;
+    std::uint64_t work = 0;
+    double residual = 0.0;
+    bool fastPath = false;         ///< true when the single-contact closed form was used
+    std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
+    std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
+    std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve
+    std::string message;
+};
+
+/// Relative normal velocity of contact c before the impulses, eq. (4): v_rel = n . (p'_A - p'_B), with
+/// p' = v + omega x r (eq. (2)). Negative means approaching.
+template <class D>
+double relativeNormalVelocity(const std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c);
+
+/// Checks bodies and nodes (indices in range, A != B, finite values, unit normals, 0 <= e <= 1, mu >= 0,
+/// non-negative inverse masses). Returns an empty string when valid, else a message naming the bad item.
+template <class D>
+std::string validate(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts);
+
+/// Builds the frictionless collision LCP: A per eq. (20) and b per eq. (19), so that w = A f + b is
+/// v_rel^+ + e v_rel^- of every node (eq. (18), (21)).
+template <class D>
+Lcp assembleCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                         const ResolverOptions& options = {});
+
+/// Builds the Coulomb-pyramid LCP (normal rows as in assembleCollisionLcp, tangent rows D^T v^+ + lambda,
+/// slack rows mu f_n - sum beta). The matrix is not symmetric. See FrictionLayout for the unknowns.
+template <class D>
+Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                        const ResolverOptions& options, FrictionLayout* outLayout = nullptr);
+
+/// Tangent directions used by the friction LCP for contact c (k unit vectors, in pairs +t, -t).
+template <class D>
+std::vector<typename D::Vec> frictionDirections(const ContactNode<D>& c, int k);
+
+/// Applies impulse f_i n_i to A and -f_i n_i to B of every node (eq. (15)); `tangent` (optional, contacts x
+/// vectors) adds friction impulses the same way.
+template <class D>
+void applyImpulses(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                   const std::vector<double>& impulses,
+                   const std::vector<typename D::Vec>* tangent = nullptr);
+
+/// The paper's resolver: validate, assemble eq. (19)/(20), solve with Lemke (one node: the closed form
+/// f = max(0, -b/A)), and on success apply the impulses to `ioBodies`. On failure the bodies are untouched.
+template <class D>
+Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
+                             const ResolverOptions& options, LemkeSolver& solver);
+
+/// Same with Coulomb friction: normal and tangential impulses from one friction LCP.
+template <class D>
+Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
+                               const ResolverOptions& options, LemkeSolver& solver);
+
+}  // namespace unison

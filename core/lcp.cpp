@@ -1,0 +1,683 @@
+// core/lcp.cpp — Lemke's method with a compact, explicitly inverted basis block.
+//
+// Why not the textbook tableau: a tableau carries all n rows of B^-1 [b | I | A | d] and every pivot touches
+// n x 2n entries. Contact LCPs are sparse (A = J M^-1 J^T couples contacts that share a body) and most of the
+// basis is slack variables w_i that need no factorisation at all. With w = b + A z + d z0, write
+//     R    = indices whose w is nonbasic (those rows must hold w_i = 0),
+//     cols = basic z's plus z0 when it is basic.
+// Lemke's basis is almost complementary, so |R| = |cols| = m and the basic values solve the m x m system
+//     M y = -b_R,   M = [A_{R,alpha} | d_R],        (the "block")
+// while every basic w_i, i not in R, is an explicit sum w_i = b_i + A_{i,alpha} z_alpha + d_i z0.
+// I keep Binv = M^-1 explicitly and update it by one rank-one correction per pivot (four kinds: the block
+// grows, shrinks, or swaps a row or a column). A pivot costs O(m^2 + nnz(A restricted to alpha)) instead of O(n^2).
+//
+// Determinism: every loop runs in a fixed index order; the only reductions are sums in that order; nothing reads
+// the clock. The lexicographic rule compares the rows of [value | d value / d b_0 ... d value / d b_{n-1}]
+// divided by the pivot entry — the rows of B^-1 [b | I] of the full tableau — so it is the classical
+// anti-cycling rule, evaluated lazily and only for candidates whose ratios tie.
+#include "lcp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace unison {
+
+const char* statusName(LcpStatus status) {
+    switch (status) {
+        case LcpStatus::solved: return "solved";
+        case LcpStatus::infeasible: return "infeasible";
+        case LcpStatus::pivot_limit: return "pivot_limit";
+        case LcpStatus::invalid_input: return "invalid_input";
+        case LcpStatus::numerical_failure: return "numerical_failure";
+    }
+    return "unknown";
+}
+
+double complementarityResidual(const std::vector<double>& z, const std::vector<double>& w) {
+    double r = 0.0;
+    const std::size_t n = std::min(z.size(), w.size());
+    for (std::size_t i = 0; i < n; ++i) r = std::max(r, std::fabs(std::min(z[i], w[i])));
+    return r;
+}
+
+namespace {
+
+constexpr double kTiny = 1e-300;
+
+/// A candidate to leave the basis in a ratio test.
+struct Candidate {
+    bool isColumn;  // true: a basic column variable (z_j or z0) at block position `pos`; false: basic w_i, i = pos
+    int pos;
+    double ratio;
+    double ratio2;  // the same ratio for the epsilon coefficient of the perturbed values (tie-breaker)
+    double delta;  // its rate of change as the entering variable grows (< 0 in a min test, > 0 in the start test)
+    int var;       // index for the lowest-index rule: j for z_j, n for z0, i for w_i
+};
+
+}  // namespace
+
+/// All per-solve state. Lives on the stack of solve(); the big buffers are borrowed from the solver object.
+struct LemkeSolver::Workspace {
+    int n = 0;
+    int cap = 0;
+    const double* A = nullptr;
+    const double* b = nullptr;
+    std::vector<double> d;  // covering vector (n)
+    // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
+    std::vector<int> colStart, colRow, rowStart, rowCol;
+    std::vector<double> colVal, rowVal;
+    double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
+    int m = 0;
+    std::vector<int> rowIdx, posRow;  // block row p <-> index i (posRow[i] = -1: w_i basic)
+    std::vector<int> colVar, posCol;  // block column q <-> variable (0..n-1: z_j, n: z0); posCol has n + 1 entries
+    std::vector<double> zval;         // (cap) value of the column variable at block position q
+    std::vector<double> wval;         // (n) value of w_i while it is basic
+    // Degeneracy: b is treated as b + eps p for a fixed generic p > 0 and an infinitesimal eps; zval2/wval2 carry
+    // the eps coefficient of every basic value, updated by the same pivots. Ratio ties (contact LCPs are full of
+    // them: every resting contact has b_i = 0) are broken by these coefficients first.
+    std::vector<double> p;            // (n) perturbation direction
+    std::vector<double> zval2;        // (cap)
+    std::vector<double> wval2;        // (n)
+    std::vector<double> dy, dw, vrow, tmp;
+    double aMax = 0.0, bMax = 0.0;
+
+    double entry(int i, int var) const { return var < n ? A[std::size_t(i) * std::size_t(n) + std::size_t(var)] : d[std::size_t(i)]; }
+    double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
+
+    void buildSparsity() {
+        colStart.assign(std::size_t(n) + 1, 0);
+        rowStart.assign(std::size_t(n) + 1, 0);
+        colRow.clear(); colVal.clear(); rowCol.clear(); rowVal.clear();
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; j < n; ++j) {
+                const double v = A[std::size_t(i) * std::size_t(n) + std::size_t(j)];
+                if (v != 0.0) {
+                    rowCol.push_back(j);
+                    rowVal.push_back(v);
+                    ++colStart[std::size_t(j) + 1];
+                }
+            }
+            rowStart[std::size_t(i) + 1] = int(rowCol.size());
+        }
+        for (int j = 0; j < n; ++j) colStart[std::size_t(j) + 1] += colStart[std::size_t(j)];
+        colRow.resize(rowCol.size());
+        colVal.resize(rowCol.size());
+        std::vector<int> fill(colStart.begin(), colStart.end() - 1);
+        for (int i = 0; i < n; ++i) {
+            for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+                const int j = rowCol[std::size_t(k)];
+                colRow[std::size_t(fill[std::size_t(j)])] = i;
+                colVal[std::size_t(fill[std::size_t(j)])] = rowVal[std::size_t(k)];
+                ++fill[std::size_t(j)];
+            }
+        }
+    }
+
+    /// out[i] += s * (column `var` of [A | d])[i] for every row i.
+    void addColumn(int var, double s, double* out) const {
+        if (var < n) {
+            for (int k = colStart[std::size_t(var)]; k < colStart[std::size_t(var) + 1]; ++k)
+                out[colRow[std::size_t(k)]] += colVal[std::size_t(k)] * s;
+        } else {
+            for (int i = 0; i < n; ++i) out[i] += d[std::size_t(i)] * s;
+        }
+    }
+
+    /// vrow[p] = sum_q entry(i, colVar[q]) * Binv[q][p]: row i of [A | d] restricted to the block columns, times Binv.
+    void rowTimesBinv(int i, double* out) {
+        std::fill(out, out + m, 0.0);
+        for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+            const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
+            if (q < 0) continue;
+            const double c = rowVal[std::size_t(k)];
+            const double* __restrict r = row(q);
+            for (int p = 0; p < m; ++p) out[p] += c * r[p];
+        }
+        const int q0 = posCol[std::size_t(n)];
+        if (q0 >= 0 && d[std::size_t(i)] != 0.0) {
+            const double c = d[std::size_t(i)];
+            const double* __restrict r = row(q0);
+            for (int p = 0; p < m; ++p) out[p] += c * r[p];
+        }
+    }
+
+    /// dw[i] = change of basic w_i per unit of the entering variable, given dy. enteringVar >= 0 adds its column.
+    void computeDw(int enteringVar) {
+        std::fill(dw.begin(), dw.end(), 0.0);
+        for (int q = 0; q < m; ++q) {
+            if (dy[std::size_t(q)] != 0.0) addColumn(colVar[std::size_t(q)], dy[std::size_t(q)], dw.data());
+        }
+        if (enteringVar >= 0) addColumn(enteringVar, 1.0, dw.data());
+    }
+
+    /// Inverts the block M[p][q] = entry(rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
+    bool refactor() {
+        const std::size_t mm = std::size_t(m);
+        std::vector<double> M(mm * mm);
+        double scale = 0.0;
+        for (int p = 0; p < m; ++p) {
+            for (int q = 0; q < m; ++q) {
+                M[std::size_t(p) * mm + std::size_t(q)] = entry(rowIdx[std::size_t(p)], colVar[std::size_t(q)]);
+                scale = std::max(scale, std::fabs(M[std::size_t(p) * mm + std::size_t(q)]));
+            }
+        }
+        // Solve M X = I; X (q x p) is Binv. Work on [M | I] row-reduced.
+        std::vector<double> I(mm * mm, 0.0);
+        for (int p = 0; p < m; ++p) I[std::size_t(p) * mm + std::size_t(p)] = 1.0;
+        for (int q = 0; q < m; ++q) {
+            int best = -1;
+            double bestAbs = 0.0;
+            for (int p = q; p < m; ++p) {
+                const double a = std::fabs(M[std::size_t(p) * mm + std::size_t(q)]);
+                if (a > bestAbs) { bestAbs = a; best = p; }
+            }
+            if (best < 0 || bestAbs <= 1e-14 * scale) return false;
+            if (best != q) {
+                for (std::size_t k = 0; k < mm; ++k) {
+                    std::swap(M[std::size_t(best) * mm + k], M[std::size_t(q) * mm + k]);
+                    std::swap(I[std::size_t(best) * mm + k], I[std::size_t(q) * mm + k]);
+                }
+            }
+            const double inv = 1.0 / M[std::size_t(q) * mm + std::size_t(q)];
+            for (std::size_t k = 0; k < mm; ++k) {
+                M[std::size_t(q) * mm + k] *= inv;
+                I[std::size_t(q) * mm + k] *= inv;
+            }
+            for (int p = 0; p < m; ++p) {
+                if (p == q) continue;
+                const double f = M[std::size_t(p) * mm + std::size_t(q)];
+                if (f == 0.0) continue;
+                for (std::size_t k = 0; k < mm; ++k) {
+                    M[std::size_t(p) * mm + k] -= f * M[std::size_t(q) * mm + k];
+                    I[std::size_t(p) * mm + k] -= f * I[std::size_t(q) * mm + k];
+                }
+            }
+        }
+        // Row q of the reduced identity is row q of M^-1 = Binv[q][.].
+        for (int q = 0; q < m; ++q) std::copy_n(&I[std::size_t(q) * mm], mm, row(q));
+        return true;
+    }
+
+    /// Recomputes every basic value from scratch (the entering variable is at zero between pivots).
+    void recomputeValues() {
+        recomputeValues(b, zval, wval);
+        recomputeValues(p.data(), zval2, wval2);
+    }
+    void recomputeValues(const double* rhs, std::vector<double>& zv, std::vector<double>& wv) {
+        for (int q = 0; q < m; ++q) {
+            const double* r = row(q);
+            double s = 0.0;
+            for (int k = 0; k < m; ++k) s += r[k] * rhs[rowIdx[std::size_t(k)]];
+            zv[std::size_t(q)] = -s;
+        }
+        std::vector<double> w(rhs, rhs + n);
+        for (int q = 0; q < m; ++q) addColumn(colVar[std::size_t(q)], zv[std::size_t(q)], w.data());
+        for (int i = 0; i < n; ++i) wv[std::size_t(i)] = posRow[std::size_t(i)] < 0 ? w[std::size_t(i)] : 0.0;
+    }
+
+    /// d(value)/d(b_k) of a candidate: the lexicographic row of B^-1 [b | I].
+    double sensitivity(const Candidate& c, int k, const std::vector<double>& candRow) {
+        const int p = posRow[std::size_t(k)];
+        if (c.isColumn) return p >= 0 ? -row(c.pos)[p] : 0.0;
+        return (k == c.pos ? 1.0 : 0.0) - (p >= 0 ? candRow[std::size_t(p)] : 0.0);
+    }
+
+    /// Breaks a tie among candidates lexicographically (min test: smallest; start test: largest), then by index.
+    int breakTie(std::vector<Candidate>& tied, bool takeMax) {
+        std::vector<std::vector<double>> rows(tied.size());
+        for (std::size_t t = 0; t < tied.size(); ++t) {
+            if (!tied[t].isColumn) {
+                rows[t].resize(std::size_t(m));
+                rowTimesBinv(tied[t].pos, rows[t].data());
+            }
+        }
+        std::vector<std::size_t> alive(tied.size());
+        for (std::size_t t = 0; t < tied.size(); ++t) alive[t] = t;
+        std::vector<double> val(tied.size());
+        for (int k = 0; k < n && alive.size() > 1; ++k) {
+            double best = 0.0, mag = 0.0;
+            bool first = true;
+            for (std::size_t t : alive) {
+                // Ratio of the perturbed value: value(eps) / -delta (min test) or -value(eps) / delta (start test).
+                val[t] = -sensitivity(tied[t], k, rows[t]) / tied[t].delta;
+                mag = std::max(mag, std::fabs(val[t]));
+                if (first || (takeMax ? val[t] > best : val[t] < best)) best = val[t];
+                first = false;
+            }
+            const double tol = 1e-12 * mag;
+            std::vector<std::size_t> keep;
+            for (std::size_t t : alive) {
+                if (std::fabs(val[t] - best) <= tol) keep.push_back(t);
+            }
+            alive.swap(keep);
+        }
+        std::size_t pick = alive[0];
+        for (std::size_t t : alive) {
+            if (tied[t].var < tied[pick].var) pick = t;
+        }
+        return int(pick);
+    }
+};
+
+LcpResult LemkeSolver::solve(const Lcp& problem, const LcpOptions& options) {
+    if (problem.n < 0 || problem.A.size() != std::size_t(problem.n) * std::size_t(problem.n) ||
+        problem.b.size() != std::size_t(problem.n)) {
+        LcpResult r;
+        r.status = LcpStatus::invalid_input;
+        r.message = "LCP sizes do not match: A must be n x n and b must have n entries";
+        return r;
+    }
+    return solve(problem.n, problem.A.data(), problem.b.data(), options);
+}
+
+LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpOptions& options) {
+    LcpResult result;
+    if (n < 0 || (n > 0 && (A == nullptr || b == nullptr))) {
+        result.message = "LCP size must be >= 0 with A and b given";
+        return result;
+    }
+    const std::size_t nn = std::size_t(n);
+    Workspace ws;
+    ws.n = n;
+    ws.cap = n + 1;
+    ws.A = A;
+    ws.b = b;
+    for (std::size_t k = 0; k < nn * nn; ++k) {
+        if (!std::isfinite(A[k])) {
+            result.message = "A has a non-finite entry at (" + std::to_string(k / nn) + ", " + std::to_string(k % nn) + ")";
+            return result;
+        }
+        ws.aMax = std::max(ws.aMax, std::fabs(A[k]));
+    }
+    for (std::size_t i = 0; i < nn; ++i) {
+        if (!std::isfinite(b[i])) {
+            result.message = "b has a non-finite entry at " + std::to_string(i);
+            return result;
+        }
+        ws.bMax = std::max(ws.bMax, std::fabs(b[i]));
+    }
+    const int maxPivots = options.maxPivots > 0 ? options.maxPivots : LcpOptions::kDefaultMaxPivots;
+    const double scale = std::max({ws.aMax, ws.bMax, kTiny});
+    result.z.assign(nn, 0.0);
+    result.w.assign(b, b + n);
+
+    auto finishWith = [&](LcpStatus s, const char* msg) {
+        result.status = s;
+        if (msg) result.message = msg;
+        result.residual = complementarityResidual(result.z, result.w);
+        result.scaledResidual = result.residual / scale;
+        return result;
+    };
+    if (n == 0) return finishWith(LcpStatus::solved, nullptr);
+
+    ws.buildSparsity();
+    mBinv.resize(std::size_t(ws.cap) * std::size_t(ws.cap));
+    ws.Binv = mBinv.data();
+    ws.rowIdx.assign(std::size_t(ws.cap), -1);
+    ws.colVar.assign(std::size_t(ws.cap), -1);
+    ws.posRow.assign(nn, -1);
+    ws.posCol.assign(nn + 1, -1);
+    ws.zval.assign(std::size_t(ws.cap), 0.0);
+    ws.wval.assign(b, b + n);
+    // p_i = 1 + frac((i + 1) * golden ratio): positive, pairwise distinct, and generic enough that no ratio tie of
+    // the unperturbed problem survives in the eps coefficients (the classical lexicographic rule backs it up).
+    ws.p.resize(nn);
+    for (std::size_t i = 0; i < nn; ++i) {
+        const double t = double(i + 1) * 0.6180339887498949;
+        ws.p[i] = 1.0 + (t - std::floor(t));
+    }
+    ws.zval2.assign(std::size_t(ws.cap), 0.0);
+    ws.wval2 = ws.p;
+    ws.dy.assign(std::size_t(ws.cap), 0.0);
+    ws.dw.assign(nn, 0.0);
+    ws.vrow.assign(std::size_t(ws.cap), 0.0);
+    ws.tmp.assign(std::size_t(ws.cap), 0.0);
+    ws.d.assign(nn, 1.0);
+    ws.aMax = std::max(ws.aMax, 1.0);  // d = 1 is part of the column space
+
+    // ---- Start: a warm basis if one is given and usable, else the all-slack basis. ---------------------------
+    bool warm = false;
+    if (options.warmBasis && !options.warmBasis->empty()) {
+        std::vector<int> guess(*options.warmBasis);
+        std::sort(guess.begin(), guess.end());
+        guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
+        const bool inRange = guess.front() >= 0 && guess.back() < n;
+        if (inRange) {
+            ws.m = int(guess.size());
+            for (int q = 0; q < ws.m; ++q) {
+                const int j = guess[std::size_t(q)];
+                ws.rowIdx[std::size_t(q)] = j;
+                ws.posRow[std::size_t(j)] = q;
+                ws.colVar[std::size_t(q)] = j;
+                ws.posCol[std::size_t(j)] = q;
+            }
+            if (ws.refactor()) {
+                warm = true;
+                ws.recomputeValues();
+            } else {
+                for (int q = 0; q < ws.m; ++q) {
+                    ws.posRow[std::size_t(ws.rowIdx[std::size_t(q)])] = -1;
+                    ws.posCol[std::size_t(ws.colVar[std::size_t(q)])] = -1;
+                }
+                ws.m = 0;
+                ws.wval.assign(b, b + n);
+                ws.wval2 = ws.p;
+            }
+        }
+    }
+    result.warmStarted = warm;
+
+    auto assembleSolution = [&]() {
+        // Called when the block is complementary (rows == columns as index sets, no z0).
+        std::fill(result.z.begin(), result.z.end(), 0.0);
+        for (int q = 0; q < ws.m; ++q) result.z[std::size_t(ws.colVar[std::size_t(q)])] = ws.zval[std::size_t(q)];
+        auto recomputeW = [&]() {
+            std::copy(b, b + n, result.w.begin());
+            for (int q = 0; q < ws.m; ++q) ws.addColumn(ws.colVar[std::size_t(q)], result.z[std::size_t(ws.colVar[std::size_t(q)])], result.w.data());
+        };
+        recomputeW();
+        // One step of iterative refinement on the final block: z_alpha -= Binv w_R (w_R should be exactly 0).
+        for (int q = 0; q < ws.m; ++q) {
+            const double* r = ws.row(q);
+            double s = 0.0;
+            for (int p = 0; p < ws.m; ++p) s += r[p] * result.w[std::size_t(ws.rowIdx[std::size_t(p)])];
+            ws.tmp[std::size_t(q)] = s;
+        }
+        for (int q = 0; q < ws.m; ++q) result.z[std::size_t(ws.colVar[std::size_t(q)])] -= ws.tmp[std::size_t(q)];
+        recomputeW();
+        result.basis.clear();
+        for (int q = 0; q < ws.m; ++q) result.basis.push_back(ws.colVar[std::size_t(q)]);
+        std::sort(result.basis.begin(), result.basis.end());
+        result.residual = complementarityResidual(result.z, result.w);
+        result.scaledResidual = result.residual / scale;
+        if (result.scaledResidual <= options.residualTolerance) {
+            result.status = LcpStatus::solved;
+        } else {
+            result.status = LcpStatus::numerical_failure;
+            result.message = "Lemke terminated but the complementarity residual " + std::to_string(result.scaledResidual) +
+                             " (scaled) exceeds the tolerance";
+        }
+        return result;
+    };
+
+    // Is the start basis already the answer? (all basic values >= 0, up to the rounding the ratio test ignores)
+    {
+        double zMax = 0.0;
+        for (int q = 0; q < ws.m; ++q) zMax = std::max(zMax, std::fabs(ws.zval[std::size_t(q)]));
+        const double zeroY = 1e-13 * std::max(zMax, kTiny);
+        const double zeroW = 1e-13 * (ws.bMax + ws.aMax * zMax);
+        bool feasible = true;
+        for (int q = 0; q < ws.m && feasible; ++q) feasible = ws.zval[std::size_t(q)] >= -zeroY;
+        for (int i = 0; i < n && feasible; ++i) feasible = ws.posRow[std::size_t(i)] >= 0 || ws.wval[std::size_t(i)] >= -zeroW;
+        if (feasible) return assembleSolution();
+    }
+
+    if (warm) {
+        // Covering vector chosen so that every basic variable rises at rate 1 with z0:
+        // d_alpha = -A_{alpha,alpha} 1 and d_i = 1 - A_{i,alpha} 1 for the basic w's.
+        std::vector<double> ones(nn, 0.0);
+        for (int q = 0; q < ws.m; ++q) ones[std::size_t(ws.colVar[std::size_t(q)])] = 1.0;
+        std::vector<double> A1(nn, 0.0);
+        for (int q = 0; q < ws.m; ++q) ws.addColumn(ws.colVar[std::size_t(q)], 1.0, A1.data());
+        for (int i = 0; i < n; ++i) ws.d[std::size_t(i)] = ws.posRow[std::size_t(i)] >= 0 ? -A1[std::size_t(i)] : 1.0 - A1[std::size_t(i)];
+        for (int i = 0; i < n; ++i) ws.aMax = std::max(ws.aMax, std::fabs(ws.d[std::size_t(i)]));
+    }
+
+    // ---- Main loop. --------------------------------------------------------------------------------------------
+    // The entering variable: a column variable (z_e, or z0 = n) or a slack w_e leaving the block rows.
+    int enterVar = n;      // z0 first
+    bool enterIsColumn = true;
+    bool startStep = true;  // the first pivot: z0 enters, the most negative basic value leaves
+    int sinceRefactor = 0;
+    std::vector<Candidate> cands, tied;
+
+    for (;;) {
+        const std::uint64_t cost = std::uint64_t(ws.m + 1) * std::uint64_t(ws.m + 1) + std::uint64_t(n);
+        if (result.pivots >= maxPivots) return finishWith(LcpStatus::pivot_limit, "pivot cap reached");
+        if (options.maxWork && result.work + cost > options.maxWork) return finishWith(LcpStatus::pivot_limit, "work budget exhausted");
+        const int m = ws.m;
+        // Direction of the basic variables per unit of the entering variable.
+        if (enterIsColumn) {
+            std::fill(ws.dy.begin(), ws.dy.begin() + m, 0.0);
+            if (enterVar < n) {
+                for (int k = ws.colStart[std::size_t(enterVar)]; k < ws.colStart[std::size_t(enterVar) + 1]; ++k) {
+                    const int p = ws.posRow[std::size_t(ws.colRow[std::size_t(k)])];
+                    if (p < 0) continue;
+                    const double a = ws.colVal[std::size_t(k)];
+                    for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] -= ws.row(q)[p] * a;
+                }
+            } else {
+                for (int p = 0; p < m; ++p) {
+                    const double a = ws.d[std::size_t(ws.rowIdx[std::size_t(p)])];
+                    for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] -= ws.row(q)[p] * a;
+                }
+            }
+            ws.computeDw(enterVar);
+        } else {
+            const int pe = ws.posRow[std::size_t(enterVar)];
+            for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] = ws.row(q)[pe];
+            ws.computeDw(-1);
+        }
+
+        // Ratio test.
+        double yMax = 0.0, zMax = 0.0;
+        for (int q = 0; q < m; ++q) {
+            yMax = std::max(yMax, std::fabs(ws.dy[std::size_t(q)]));
+            zMax = std::max(zMax, std::fabs(ws.zval[std::size_t(q)]));
+        }
+        double enterMax = 0.0;
+        if (enterIsColumn) {
+            if (enterVar < n) {
+                for (int k = ws.colStart[std::size_t(enterVar)]; k < ws.colStart[std::size_t(enterVar) + 1]; ++k)
+                    enterMax = std::max(enterMax, std::fabs(ws.colVal[std::size_t(k)]));
+            } else {
+                for (int i = 0; i < n; ++i) enterMax = std::max(enterMax, std::fabs(ws.d[std::size_t(i)]));
+            }
+        }
+        const double tolY = options.pivotTolerance * yMax;
+        const double tolW = options.pivotTolerance * (yMax * ws.aMax + enterMax);
+        const double zeroY = 1e-13 * std::max(zMax, kTiny);
+        const double zeroW = 1e-13 * (ws.bMax + ws.aMax * zMax);
+        cands.clear();
+        if (startStep) {
+            // z0 rises until every basic value is >= 0: the leaving variable is the one that needs the most.
+            for (int q = 0; q < m; ++q) {
+                const double v = ws.zval[std::size_t(q)], dv = ws.dy[std::size_t(q)];
+                if (v < -zeroY && dv > tolY)
+                    cands.push_back({true, q, -v / dv, -ws.zval2[std::size_t(q)] / dv, dv, ws.colVar[std::size_t(q)]});
+            }
+            for (int i = 0; i < n; ++i) {
+                if (ws.posRow[std::size_t(i)] >= 0) continue;
+                const double v = ws.wval[std::size_t(i)], dv = ws.dw[std::size_t(i)];
+                if (v < -zeroW && dv > tolW) cands.push_back({false, i, -v / dv, -ws.wval2[std::size_t(i)] / dv, dv, i});
+            }
+        } else {
+            for (int q = 0; q < m; ++q) {
+                const double dv = ws.dy[std::size_t(q)];
+                if (dv < -tolY) {
+                    const double v = ws.zval[std::size_t(q)] > zeroY ? ws.zval[std::size_t(q)] : 0.0;
+                    cands.push_back({true, q, v / -dv, ws.zval2[std::size_t(q)] / -dv, dv, ws.colVar[std::size_t(q)]});
+                }
+            }
+            for (int i = 0; i < n; ++i) {
+                if (ws.posRow[std::size_t(i)] >= 0) continue;
+                const double dv = ws.dw[std::size_t(i)];
+                if (dv < -tolW) {
+                    const double v = ws.wval[std::size_t(i)] > zeroW ? ws.wval[std::size_t(i)] : 0.0;
+                    cands.push_back({false, i, v / -dv, ws.wval2[std::size_t(i)] / -dv, dv, i});
+                }
+            }
+        }
+        if (cands.empty()) {
+            if (startStep) {
+                // The warm basis could not be repaired by z0 along this covering vector: start cold.
+                LcpOptions cold = options;
+                cold.warmBasis = nullptr;
+                LcpResult r = solve(n, A, b, cold);
+                r.pivots += result.pivots;
+                r.work += result.work;
+                return r;
+            }
+            return finishWith(LcpStatus::infeasible, "secondary ray: Lemke found no solution (the LCP may have none)");
+        }
+        double best = cands[0].ratio;
+        for (const Candidate& c : cands) best = startStep ? std::max(best, c.ratio) : std::min(best, c.ratio);
+        const double tieTol = 1e-12 * best;
+        tied.clear();
+        bool z0Tied = false;
+        for (const Candidate& c : cands) {
+            if (std::fabs(c.ratio - best) <= tieTol) {
+                tied.push_back(c);
+                z0Tied = z0Tied || (c.isColumn && c.var == n);
+            }
+        }
+        Candidate leave = tied[0];
+        if (z0Tied && !startStep) {
+            for (const Candidate& c : tied) {
+                if (c.isColumn && c.var == n) leave = c;
+            }
+        } else if (tied.size() > 1) {
+            // Second key: the eps coefficient of the perturbed ratio; then the classical lexicographic rows.
+            double best2 = tied[0].ratio2, mag2 = 0.0;
+            for (const Candidate& c : tied) {
+                best2 = startStep ? std::max(best2, c.ratio2) : std::min(best2, c.ratio2);
+                mag2 = std::max(mag2, std::fabs(c.ratio2));
+            }
+            std::vector<Candidate> tied2;
+            for (const Candidate& c : tied) {
+                if (std::fabs(c.ratio2 - best2) <= 1e-9 * mag2) tied2.push_back(c);
+            }
+            leave = tied2.size() == 1 ? tied2[0] : tied2[std::size_t(ws.breakTie(tied2, startStep))];
+        }
+        const double theta = leave.ratio;
+        const double theta2 = leave.ratio2;
+
+        // Move along the direction: every basic value changes by theta * its rate.
+        for (int q = 0; q < m; ++q) {
+            ws.zval[std::size_t(q)] += theta * ws.dy[std::size_t(q)];
+            ws.zval2[std::size_t(q)] += theta2 * ws.dy[std::size_t(q)];
+        }
+        for (int i = 0; i < n; ++i) {
+            if (ws.posRow[std::size_t(i)] < 0) {
+                ws.wval[std::size_t(i)] += theta * ws.dw[std::size_t(i)];
+                ws.wval2[std::size_t(i)] += theta2 * ws.dw[std::size_t(i)];
+            }
+        }
+
+        // Basis exchange: four kinds of block update, each a rank-one correction of Binv.
+        const int cap = ws.cap;
+        double* const __restrict Bi = ws.Binv;
+        if (enterIsColumn && !leave.isColumn) {
+            // (1) grow: row i joins the block rows, the entering column joins the block columns (bordering).
+            const int i = leave.pos;
+            ws.rowTimesBinv(i, ws.vrow.data());  // v = c_i^T Binv
+            const double s = ws.dw[std::size_t(i)];  // Schur complement = dw_i
+            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] /= s;
+            for (int q = 0; q < m; ++q) {
+                double* __restrict r = Bi + std::size_t(q) * std::size_t(cap);
+                const double uq = -ws.dy[std::size_t(q)];
+                const double* __restrict v = ws.vrow.data();
+                for (int p = 0; p < m; ++p) r[p] += uq * v[p];
+                r[m] = -uq / s;
+            }
+            double* __restrict last = Bi + std::size_t(m) * std::size_t(cap);
+            for (int p = 0; p < m; ++p) last[p] = -ws.vrow[std::size_t(p)];
+            last[m] = 1.0 / s;
+            ws.rowIdx[std::size_t(m)] = i;
+            ws.posRow[std::size_t(i)] = m;
+            ws.colVar[std::size_t(m)] = enterVar;
+            ws.posCol[std::size_t(enterVar)] = m;
+            ws.zval[std::size_t(m)] = theta;
+            ws.zval2[std::size_t(m)] = theta2;
+            ws.wval[std::size_t(i)] = 0.0;
+            ws.m = m + 1;
+        } else if (enterIsColumn && leave.isColumn) {
+            // (2) column swap at block position qL.
+            const int qL = leave.pos;
+            const double inv = 1.0 / -ws.dy[std::size_t(qL)];
+            double* __restrict pr = Bi + std::size_t(qL) * std::size_t(cap);
+            for (int p = 0; p < m; ++p) pr[p] *= inv;
+            for (int q = 0; q < m; ++q) {
+                if (q == qL) continue;
+                double* __restrict r = Bi + std::size_t(q) * std::size_t(cap);
+                const double uq = -ws.dy[std::size_t(q)];
+                for (int p = 0; p < m; ++p) r[p] -= uq * pr[p];
+            }
+            ws.posCol[std::size_t(leave.var)] = -1;
+            ws.colVar[std::size_t(qL)] = enterVar;
+            ws.posCol[std::size_t(enterVar)] = qL;
+            ws.zval[std::size_t(qL)] = theta;
+            ws.zval2[std::size_t(qL)] = theta2;
+        } else if (!enterIsColumn && !leave.isColumn) {
+            // (3) row swap: row e leaves the block rows (w_e becomes basic), row i takes its place.
+            const int i = leave.pos;
+            const int pe = ws.posRow[std::size_t(enterVar)];
+            ws.rowTimesBinv(i, ws.vrow.data());
+            const double piv = ws.vrow[std::size_t(pe)];
+            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] = (ws.vrow[std::size_t(p)] - (p == pe ? 1.0 : 0.0)) / piv;
+            for (int q = 0; q < m; ++q) {
+                double* __restrict r = Bi + std::size_t(q) * std::size_t(cap);
+                const double cq = ws.dy[std::size_t(q)];
+                const double* __restrict v = ws.vrow.data();
+                for (int p = 0; p < m; ++p) r[p] -= cq * v[p];
+            }
+            ws.posRow[std::size_t(enterVar)] = -1;
+            ws.wval[std::size_t(enterVar)] = theta;
+            ws.wval2[std::size_t(enterVar)] = theta2;
+            ws.rowIdx[std::size_t(pe)] = i;
+            ws.posRow[std::size_t(i)] = pe;
+            ws.wval[std::size_t(i)] = 0.0;
+        } else {
+            // (4) shrink: row e and the leaving column leave the block; Schur update, then move the last row and
+            // column into the holes.
+            const int qL = leave.pos;
+            const int pe = ws.posRow[std::size_t(enterVar)];
+            const double piv = ws.dy[std::size_t(qL)];
+            double* __restrict pr = Bi + std::size_t(qL) * std::size_t(cap);
+            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] = pr[p] / piv;
+            for (int q = 0; q < m; ++q) {
+                if (q == qL) continue;
+                double* __restrict r = Bi + std::size_t(q) * std::size_t(cap);
+                const double cq = ws.dy[std::size_t(q)];
+                const double* __restrict v = ws.vrow.data();
+                for (int p = 0; p < m; ++p) r[p] -= cq * v[p];
+            }
+            const int lastQ = m - 1, lastP = m - 1;
+            if (qL != lastQ) {
+                std::copy_n(Bi + std::size_t(lastQ) * std::size_t(cap), m, Bi + std::size_t(qL) * std::size_t(cap));
+                ws.colVar[std::size_t(qL)] = ws.colVar[std::size_t(lastQ)];
+                ws.posCol[std::size_t(ws.colVar[std::size_t(qL)])] = qL;
+                ws.zval[std::size_t(qL)] = ws.zval[std::size_t(lastQ)];
+                ws.zval2[std::size_t(qL)] = ws.zval2[std::size_t(lastQ)];
+            }
+            if (pe != lastP) {
+                for (int q = 0; q < m - 1; ++q) Bi[std::size_t(q) * std::size_t(cap) + std::size_t(pe)] = Bi[std::size_t(q) * std::size_t(cap) + std::size_t(lastP)];
+                ws.rowIdx[std::size_t(pe)] = ws.rowIdx[std::size_t(lastP)];
+                ws.posRow[std::size_t(ws.rowIdx[std::size_t(pe)])] = pe;
+            }
+            ws.posCol[std::size_t(leave.var)] = -1;
+            ws.posRow[std::size_t(enterVar)] = -1;
+            ws.wval[std::size_t(enterVar)] = theta;
+            ws.wval2[std::size_t(enterVar)] = theta2;
+            ws.m = m - 1;
+        }
+        ++result.pivots;
+        result.work += cost;
+        ++sinceRefactor;
+        startStep = false;
+
+        if (leave.isColumn && leave.var == n) return assembleSolution();  // z0 left: complementary basis
+        // The complement of the leaving variable enters next.
+        enterVar = leave.var;
+        enterIsColumn = !leave.isColumn;
+
+        // Rank-one updates accumulate rounding; refactor the block after many of them.
+        if (sinceRefactor >= std::max(256, 4 * ws.m)) {
+            sinceRefactor = 0;
+            if (ws.refactor()) ws.recomputeValues();
+        }
+    }
+}
+
+}  // namespace unison

@@ -1,0 +1,99 @@
+// core/lcp.h — the linear complementarity problem and Unison's bounded, deterministic Lemke solver.
+//
+// Owns: the LCP data type (dense A, b), solver options, the explicit outcome of a solve, and LemkeSolver, a
+// reusable workspace. Problem (the paper's eqs. (12)-(14); b is "q" in textbooks):
+//     find z >= 0 with w = A z + b >= 0 and z.w = 0.
+// Invariants and contract (DESIGN.md "Lemke solver contract"):
+//   - the pivot sequence is a pure function of (A, b, options, warm basis): lexicographic minimum-ratio test,
+//     z0 leaves first on ties, remaining ties by lowest index; entries below a relative tolerance never pivot;
+//   - every solve ends with an explicit status, and `solved` is only reported after the complementarity
+//     residual of the returned (z, w) has been checked;
+//   - work is counted in deterministic units, never wall-clock time, so a frame budget gives the same answer on
+//     every machine.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace unison {
+
+/// A dense LCP: A is n x n, row-major (A[i*n + j]); b has n entries.
+struct Lcp {
+    int n = 0;
+    std::vector<double> A;  ///< (n x n), row-major
+    std::vector<double> b;  ///< (n)
+
+    Lcp() = default;
+    explicit Lcp(int size) : n(size), A(std::size_t(size) * std::size_t(size), 0.0), b(std::size_t(size), 0.0) {}
+    double& at(int i, int j) { return A[std::size_t(i) * std::size_t(n) + std::size_t(j)]; }
+    double at(int i, int j) const { return A[std::size_t(i) * std::size_t(n) + std::size_t(j)]; }
+};
+
+/// How a solve ended. Only `solved` carries a usable z.
+enum class LcpStatus {
+    solved,            ///< z0 left the basis and the residual check passed
+    infeasible,        ///< secondary ray: no solution exists, or Lemke cannot reach one from this start
+    pivot_limit,       ///< the pivot cap or the work budget ran out first
+    invalid_input,     ///< NaN/Inf entries, negative size or mismatched sizes
+    numerical_failure  ///< z0 left the basis but the answer failed the residual check even after refinement
+};
+
+/// Stable lower-case name of a status ("solved", "infeasible", ...), as printed by the command-line tool.
+const char* statusName(LcpStatus status);
+
+struct LcpOptions {
+    /// Hard cap on pivots for this call; 0 selects the default, kDefaultMaxPivots.
+    int maxPivots = 0;
+    /// Work budget in work units (see LcpResult::work); 0 means unlimited. Exceeding it ends with pivot_limit.
+    std::uint64_t maxWork = 0;
+    /// Relative pivot tolerance: a direction entry smaller than this times the largest entry of its kind never
+    /// becomes a pivot. Entries below it are treated as exact zeros, which is what keeps degenerate contact
+    /// problems (coplanar corners, singular A) on a consistent pivot path.
+    double pivotTolerance = 1e-11;
+    /// A solve is `solved` when max_i |min(z_i, w_i)| <= residualTolerance * max(max|A_ij|, max|b_i|).
+    double residualTolerance = 1e-9;
+    /// Optional warm start: the indices i whose z_i are guessed to be basic (positive) at the solution, e.g.
+    /// the previous step's basis. Invalid or singular guesses fall back to a cold start; never an error.
+    const std::vector<int>* warmBasis = nullptr;
+
+    static constexpr int kDefaultMaxPivots = 100000;
+};
+
+struct LcpResult {
+    LcpStatus status = LcpStatus::invalid_input;
+    int pivots = 0;              ///< basis exchanges performed (warm-start factorisation counts as none)
+    std::uint64_t work = 0;      ///< deterministic work units: sum over pivots of (basis size + 1)^2 + n
+    std::vector<double> z;       ///< (n) impulses / unknowns; meaningful when solved
+    std::vector<double> w;       ///< (n) w = A z + b for the returned z
+    double residual = 0.0;       ///< max_i |min(z_i, w_i)| of the returned (z, w)
+    double scaledResidual = 0.0; ///< residual / max(max|A_ij|, max|b_i|)
+    std::vector<int> basis;      ///< ascending indices with z_i basic at the end: feed back as a warm start
+    bool warmStarted = false;    ///< true when the warm basis was used (not discarded for a cold start)
+    std::string message;         ///< human-readable detail for invalid_input / failures
+};
+
+/// Complementarity residual max_i |min(z_i, w_i)| (0 for n = 0).
+double complementarityResidual(const std::vector<double>& z, const std::vector<double>& w);
+
+/// Lemke's complementary pivoting method with covering vector d = 1, run on a compact basis representation:
+/// only the block of the basis that couples basic z's with the rows whose w is nonbasic is kept, as an explicit
+/// inverse updated by rank-one corrections, and A is walked through its sparsity pattern. For contact problems,
+/// where A = J M^-1 J^T couples only contacts that share a body, a pivot costs O(k^2 + nnz) with k the number of
+/// basic z's instead of the O(n^2) of a full tableau.
+///
+/// The object keeps its buffers between calls, so a game loop can reuse one solver per thread without
+/// allocating. It holds no other state: the result of solve() depends only on its arguments.
+class LemkeSolver {
+public:
+    LcpResult solve(const Lcp& problem, const LcpOptions& options = {});
+    /// Same, on raw arrays: A is (n x n) row-major, b is (n).
+    LcpResult solve(int n, const double* A, const double* b, const LcpOptions& options = {});
+
+private:
+    struct Workspace;
+    std::vector<double> mBinv;  // explicit inverse of the compact basis block, (capacity x capacity)
+    std::vector<double> mScratch;
+};
+
+}  // namespace unison

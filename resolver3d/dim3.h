@@ -1,0 +1,62 @@
+// resolver3d/dim3.h — the 3D body-math trait of the dimension-generic core (core/contact_resolver.h), on Eigen.
+//
+// Angular quantities are 3-vectors and the inverse inertia is a world-frame 3x3 matrix. Eigen's vectorisation is
+// disabled for the simulation (EIGEN_DONT_VECTORIZE from unison_determinism) so that the order of every sum is the
+// same in every build.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cmath>
+
+namespace unison {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+struct Dim3 {
+    static constexpr int kDim = 3;
+    using Vec = Vec3;
+    using Ang = Vec3;
+    using InvInertia = Mat3;
+
+    static Vec zeroVec() { return Vec3::Zero(); }
+    static Ang zeroAng() { return Vec3::Zero(); }
+    static InvInertia zeroInvInertia() { return Mat3::Zero(); }
+
+    static double dot(const Vec& a, const Vec& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
+    /// r x n, eq. (17): r* n.
+    static Ang cross(const Vec& r, const Vec& n) {
+        return Vec3(r.y() * n.z() - r.z() * n.y(), r.z() * n.x() - r.x() * n.z(), r.x() * n.y() - r.y() * n.x());
+    }
+    static Vec angularVelocityAt(const Ang& w, const Vec& r) { return cross(w, r); }
+    static Ang applyInvInertia(const InvInertia& invI, const Ang& a) {
+        return Vec3(invI(0, 0) * a.x() + invI(0, 1) * a.y() + invI(0, 2) * a.z(),
+                    invI(1, 0) * a.x() + invI(1, 1) * a.y() + invI(1, 2) * a.z(),
+                    invI(2, 0) * a.x() + invI(2, 1) * a.y() + invI(2, 2) * a.z());
+    }
+    static double angDot(const Ang& a, const Ang& b) { return dot(a, b); }
+    static Vec scale(double s, const Vec& v) { return Vec3(s * v.x(), s * v.y(), s * v.z()); }
+    static Vec add(const Vec& a, const Vec& b) { return Vec3(a.x() + b.x(), a.y() + b.y(), a.z() + b.z()); }
+    static Vec sub(const Vec& a, const Vec& b) { return Vec3(a.x() - b.x(), a.y() - b.y(), a.z() - b.z()); }
+    static Ang angScale(double s, const Ang& a) { return scale(s, a); }
+    static Ang angAdd(const Ang& a, const Ang& b) { return add(a, b); }
+    static bool finite(const Vec& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+    static bool angFinite(const Ang& a) { return finite(a); }
+    static bool invInertiaValid(const InvInertia& m) {
+        for (int i = 0; i < 3; ++i) {
+            for (int j = 0; j < 3; ++j) {
+                if (!std::isfinite(m(i, j))) return false;
+            }
+            if (m(i, i) < 0.0) return false;
+        }
+        return true;
+    }
+    static bool invInertiaZero(const InvInertia& m) { return m.isZero(0.0); }
+    /// 3D pyramids use an even number k >= 4 of directions: k/2 evenly spaced tangents and their negatives.
+    static int frictionDirectionCount(int requested) { return requested < 4 ? 4 : requested + (requested & 1); }
+    static Vec tangentDirection(const Vec& n, int index, int k);
+};
+
+}  // namespace unison

@@ -1,0 +1,39 @@
+// resolver3d/resolver3d.cpp — the 3D instantiation of the paper's resolver and the 3D friction directions.
+#include "contact_resolver_impl.h"
+#include "det_math.h"
+#include "dim3.h"
+
+#include <cmath>
+
+namespace unison {
+
+// A deterministic tangent basis (t1, t2) of n, then k/2 directions evenly spread over a half turn and their
+// negatives: index m < k/2 is cos(theta) t1 + sin(theta) t2 with theta = pi m / (k/2); index m + k/2 is its negative.
+Dim3::Vec Dim3::tangentDirection(const Vec& n, int index, int k) {
+    Vec3 t1;
+    if (std::fabs(n.x()) >= 0.57735026918962576) {
+        t1 = Vec3(n.y(), -n.x(), 0.0);
+    } else {
+        t1 = Vec3(0.0, n.z(), -n.y());
+    }
+    t1 = scale(1.0 / std::sqrt(dot(t1, t1)), t1);
+    const Vec3 t2 = cross(n, t1);
+    const int half = k / 2;
+    const int m = index % half;
+    Vec3 dir;
+    if (m == 0) {
+        dir = t1;
+    } else if (2 * m == half) {
+        dir = t2;
+    } else {
+        double s = 0.0;
+        double c = 0.0;
+        dmath::sincos(dmath::kPi * double(m) / double(half), &s, &c);
+        dir = add(scale(c, t1), scale(s, t2));
+    }
+    return index < half ? dir : scale(-1.0, dir);
+}
+
+UNISON_INSTANTIATE_RESOLVER(Dim3)
+
+}  // namespace unison

@@ -1,0 +1,33 @@
+// samples/cli.h — the commands of the `unison` tool as library functions, so tests can call them directly.
+//
+// Owns: the file formats of DESIGN.md "Command-line contract" (the LCP text file, the resolver JSON) and the JSON
+// the tool prints. Each command returns the JSON to print and an exit code: 0 solved, 1 unsolved; bad input throws
+// cli::InputError (exit code 2).
+#pragma once
+
+#include "json_read.h"
+#include "lcp.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace unison::cli {
+
+/// What a command prints on stdout and the exit code it ends with.
+struct CommandOutput {
+    nlohmann::json json;
+    int exitCode = 0;
+};
+
+/// Parses the LCP text format: n, then the n*n entries of A row by row, then the n entries of b, all
+/// whitespace-separated. `what` names the source in error messages.
+Lcp parseLcpText(const std::string& text, const std::string& what);
+
+/// `unison lcp`: {"status", "pivots", "z", "w", "residual"} (+ "work", "scaled_residual"); exit 0 only if solved.
+CommandOutput runLcp(const Lcp& lcp, int maxPivots);
+
+/// `unison resolve`: the paper's resolver on one JSON problem (DESIGN.md); exit 0 only if solved.
+CommandOutput runResolve(const nlohmann::json& input, const std::string& what);
+
+}  // namespace unison::cli

@@ -1,0 +1,69 @@
+// samples/json_read.cpp — strict JSON readers with key-precise messages (see json_read.h).
+#include "json_read.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace unison::cli {
+
+nlohmann::json parseJson(const std::string& text, const std::string& what) {
+    try {
+        return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(what + ": malformed JSON: " + e.what());
+    }
+}
+
+std::string readFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open file");
+    std::ostringstream s;
+    s << in.rdbuf();
+    if (in.bad()) throw InputError(path + ": read error");
+    return s.str();
+}
+
+const nlohmann::json* member(const nlohmann::json& obj, const std::string& path, const char* key, bool required) {
+    if (!obj.is_object()) throw InputError(path + ": expected an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) {
+        if (required) throw InputError(path + "." + key + ": missing");
+        return nullptr;
+    }
+    return &*it;
+}
+
+double number(const nlohmann::json& v, const std::string& path) {
+    if (!v.is_number()) throw InputError(path + ": expected a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) throw InputError(path + ": expected a finite number");
+    return x;
+}
+
+int integer(const nlohmann::json& v, const std::string& path, int lo, int hi) {
+    if (!v.is_number_integer()) throw InputError(path + ": expected an integer");
+    const long long x = v.get<long long>();
+    if (x < lo || x > hi) throw InputError(path + ": must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(x);
+}
+
+bool boolean(const nlohmann::json& v, const std::string& path) {
+    if (!v.is_boolean()) throw InputError(path + ": expected true or false");
+    return v.get<bool>();
+}
+
+std::vector<double> numbers(const nlohmann::json& v, const std::string& path, std::size_t size) {
+    if (!v.is_array() || v.size() != size)
+        throw InputError(path + ": expected an array of " + std::to_string(size) + " numbers");
+    std::vector<double> out;
+    for (std::size_t i = 0; i < size; ++i) out.push_back(number(v[i], path + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
+const nlohmann::json& array(const nlohmann::json& v, const std::string& path) {
+    if (!v.is_array()) throw InputError(path + ": expected an array");
+    return v;
+}
+
+}  // namespace unison::cli

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Installs every build, test and benchmark dependency of Unison from Debian packages.
+# Safe to run again: apt-get skips what is already installed.
+set -euo pipefail
+packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
+          libsiconos-numerics-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update
+  $SUDO apt-get install -y "${missing[@]}"
+fi

@@ -1,0 +1,188 @@
+// tests/test_cli.cpp — the `unison` tool's contract: formats, JSON output and exit codes (0 solved, 1 unsolved,
+// 2 bad input), run as a real process on files written to a temporary folder.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace {
+
+struct Run {
+    int exitCode = -1;
+    std::string out;
+    std::string err;
+};
+
+std::string tempPath(const std::string& name) {
+    const char* dir = std::getenv("TMPDIR");
+    return std::string(dir ? dir : "/tmp") + "/unison_test_cli_" + std::to_string(::getpid()) + "_" + name;
+}
+
+std::string writeTemp(const std::string& name, const std::string& text) {
+    const std::string path = tempPath(name);
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+}
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+Run unison(const std::string& args) {
+    const std::string out = tempPath("stdout"), err = tempPath("stderr");
+    const std::string cmd = std::string(UNISON_CLI_PATH) + " " + args + " >" + out + " 2>" + err;
+    const int status = std::system(cmd.c_str());
+    Run r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    std::remove(out.c_str());
+    std::remove(err.c_str());
+    return r;
+}
+
+}  // namespace
+
+TEST_SUITE("cli") {
+
+TEST_CASE("lcp: solves a text file and prints the contract's JSON") {
+    const std::string f = writeTemp("a.txt", "2\n2 1\n1 2\n-5 -6\n");
+    const Run r = unison("lcp " + f);
+    REQUIRE(r.exitCode == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["status"] == "solved");
+    CHECK(j["pivots"].get<int>() >= 2);
+    CHECK(j["z"][0].get<double>() == doctest::Approx(4.0 / 3.0));
+    CHECK(j["z"][1].get<double>() == doctest::Approx(7.0 / 3.0));
+    CHECK(std::fabs(j["w"][0].get<double>()) < 1e-12);
+    CHECK(j["residual"].get<double>() < 1e-12);
+    std::remove(f.c_str());
+}
+
+TEST_CASE("lcp: unsolved problems exit 1 with their status") {
+    const std::string f = writeTemp("inf.txt", "2  1 -1 -1 1  -1 -1");
+    const Run r = unison("lcp " + f);
+    CHECK(r.exitCode == 1);
+    CHECK(nlohmann::json::parse(r.out)["status"] == "infeasible");
+    // Murty's matrix n = 8 (b_i = -1 + 0.01 2^-(i+1), see scenes::murty) needs 256 pivots: a cap of 10 stops it.
+    std::string murty = "8\n";
+    for (int i = 0; i < 8; ++i) {
+        for (int j = 0; j < 8; ++j) murty += i == j ? "1 " : (j < i ? "2 " : "0 ");
+    }
+    for (int i = 0; i < 8; ++i) murty += std::to_string(-1.0 + 0.01 * std::ldexp(1.0, -(i + 1))) + " ";
+    const std::string g = writeTemp("murty.txt", murty);
+    const Run capped = unison("lcp " + g + " --max-pivots 10");
+    CHECK(capped.exitCode == 1);
+    CHECK(nlohmann::json::parse(capped.out)["status"] == "pivot_limit");
+    CHECK(unison("lcp " + g).exitCode == 0);
+    std::remove(f.c_str());
+    std::remove(g.c_str());
+}
+
+TEST_CASE("lcp: malformed files exit 2 with a message on stderr") {
+    const std::pair<const char*, const char*> cases[] = {
+        {"2 1 1 1", "ended after 4 numbers"},
+        {"2 1 x 1 1 0 0", "is not a number"},
+        {"1.5 1 1", "n must be an integer"},
+        {"1 1 -1 7", "unexpected extra token"},
+        {"1 nan -1", "not finite"},
+    };
+    for (const auto& [text, fragment] : cases) {
+        CAPTURE(text);
+        const std::string f = writeTemp("bad.txt", text);
+        const Run r = unison("lcp " + f);
+        CHECK(r.exitCode == 2);
+        CHECK(r.out.empty());
+        CHECK(r.err.find(fragment) != std::string::npos);
+        std::remove(f.c_str());
+    }
+    const Run missing = unison("lcp " + tempPath("does_not_exist.txt"));
+    CHECK(missing.exitCode == 2);
+    CHECK(missing.err.find("cannot open") != std::string::npos);
+    CHECK(unison("lcp").exitCode == 2);
+    CHECK(unison("frobnicate").exitCode == 2);
+}
+
+TEST_CASE("resolve: a 2D cradle through the command line matches the closed form") {
+    const nlohmann::json in = {
+        {"dimension", 2},
+        {"bodies", {{{"mass", 1}, {"inertia", 0.125}, {"position", {0, 0}}, {"velocity", {1, 0}}, {"angular_velocity", 0}},
+                    {{"mass", 1}, {"inertia", 0.125}, {"position", {1, 0}}},
+                    {{"mass", 1}, {"inertia", 0.125}, {"position", {2, 0}}}}},
+        {"contacts", {{{"a", 0}, {"b", 1}, {"point", {0.5, 0}}, {"normal", {-1, 0}}, {"restitution", 1}},
+                      {{"a", 1}, {"b", 2}, {"point", {1.5, 0}}, {"normal", {-1, 0}}, {"restitution", 1}}}}};
+    const std::string f = writeTemp("cradle.json", in.dump());
+    const Run r = unison("resolve " + f);
+    REQUIRE(r.exitCode == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["status"] == "solved");
+    CHECK(j["impulses"].size() == 2);
+    CHECK(j["bodies"][0]["velocity"][0].get<double>() == doctest::Approx(-1.0 / 3.0));
+    CHECK(j["bodies"][1]["velocity"][0].get<double>() == doctest::Approx(2.0 / 3.0));
+    CHECK(j["bodies"][2]["velocity"][0].get<double>() == doctest::Approx(2.0 / 3.0));
+    std::remove(f.c_str());
+}
+
+TEST_CASE("resolve: a 3D cube on four corners through the command line") {
+    nlohmann::json contacts = nlohmann::json::array();
+    for (double x : {-0.5, 0.5}) {
+        for (double y : {-0.5, 0.5}) {
+            contacts.push_back({{"a", 1}, {"b", 0}, {"point", {x, y, 0}}, {"normal", {0, 0, 1}}, {"restitution", 0.5}});
+        }
+    }
+    const double I = 1.0 / 6.0;
+    const nlohmann::json in = {
+        {"dimension", 3},
+        {"bodies", {{{"static", true}, {"position", {0, 0, 0}}},
+                    {{"mass", 1}, {"inertia", {{I, 0, 0}, {0, I, 0}, {0, 0, I}}}, {"position", {0, 0, 0.5}}, {"velocity", {0, 0, -2}},
+                     {"angular_velocity", {0, 0, 0}}}}},
+        {"contacts", contacts}};
+    const std::string f = writeTemp("cube.json", in.dump());
+    const Run r = unison("resolve " + f);
+    REQUIRE(r.exitCode == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["bodies"][1]["velocity"][2].get<double>() == doctest::Approx(1.0));
+    for (int k = 0; k < 3; ++k) CHECK(std::fabs(j["bodies"][1]["angular_velocity"][std::size_t(k)].get<double>()) < 1e-12);
+    std::remove(f.c_str());
+}
+
+TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
+    const std::pair<const char*, const char*> cases[] = {
+        {"{\"dimension\": 2, \"bodies\": [", "malformed JSON"},
+        {"{\"bodies\": [], \"contacts\": []}", "dimension: missing"},
+        {"{\"dimension\": 4, \"bodies\": [], \"contacts\": []}", "dimension: must be in [2, 3]"},
+        {"{\"dimension\": 2, \"bodies\": [{\"mass\": -1, \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
+         "bodies[0].mass: must be > 0"},
+        {"{\"dimension\": 2, \"bodies\": [{\"mass\": \"x\", \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
+         "bodies[0].mass: expected a number"},
+        {"{\"dimension\": 2, \"bodies\": [{\"mass\": 1, \"inertia\": 1, \"position\": [0]}], \"contacts\": []}",
+         "bodies[0].position: expected an array of 2 numbers"},
+        {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
+         "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 3, \"point\": [0,0], \"normal\": [0,1]}]}",
+         "contacts[0].b: must be in [0, 1]"},
+        {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
+         "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 0, \"point\": [0,0], \"normal\": [0,2]}]}",
+         "unit length"},
+        {"{\"dimension\": 3, \"bodies\": [{\"mass\": 1, \"inertia\": [[1,0,0],[0,-1,0],[0,0,1]], \"position\": [0,0,0]}], "
+         "\"contacts\": []}",
+         "positive definite"},
+    };
+    for (const auto& [text, fragment] : cases) {
+        CAPTURE(text);
+        const std::string f = writeTemp("bad.json", text);
+        const Run r = unison("resolve " + f);
+        CHECK(r.exitCode == 2);
+        CHECK(r.err.find(fragment) != std::string::npos);
+        std::remove(f.c_str());
+    }
+}
+
+}  // TEST_SUITE

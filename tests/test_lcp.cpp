@@ -1,0 +1,189 @@
+// tests/test_lcp.cpp — the Lemke solver's contract (core/lcp.h): outcomes, residual checks, caps and budgets,
+// warm starts and determinism, on small problems whose answers are known exactly.
+#include "test_support.h"
+
+#include "lcp.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+using namespace unison;
+
+namespace {
+
+Lcp makeLcp(int n, std::initializer_list<double> A, std::initializer_list<double> b) {
+    Lcp p(n);
+    p.A.assign(A);
+    p.b.assign(b);
+    return p;
+}
+
+// Deterministic symmetric positive definite A = L L^T + 0.1 I with a mixed-sign b.
+Lcp randomPd(int n, std::uint64_t seed) {
+    std::uint64_t s = seed;
+    auto rnd = [&]() {
+        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+        return double(s >> 11) / double(1ULL << 53) - 0.5;
+    };
+    std::vector<double> L(std::size_t(n * n));
+    for (auto& x : L) x = rnd();
+    Lcp p(n);
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            double sum = i == j ? 0.1 : 0.0;
+            for (int k = 0; k < n; ++k) sum += L[std::size_t(i * n + k)] * L[std::size_t(j * n + k)];
+            p.at(i, j) = sum;
+        }
+        p.b[std::size_t(i)] = rnd();
+    }
+    return p;
+}
+
+void checkSolution(const Lcp& p, const LcpResult& r) {
+    REQUIRE(r.status == LcpStatus::solved);
+    for (int i = 0; i < p.n; ++i) {
+        double w = p.b[std::size_t(i)];
+        for (int j = 0; j < p.n; ++j) w += p.at(i, j) * r.z[std::size_t(j)];
+        CHECK(w == doctest::Approx(r.w[std::size_t(i)]).epsilon(1e-12).scale(1.0));
+        CHECK(r.z[std::size_t(i)] >= -1e-12);
+        CHECK(w >= -1e-12);
+        CHECK(std::fabs(std::min(r.z[std::size_t(i)], w)) <= 1e-12);
+    }
+    CHECK(r.scaledResidual <= 1e-9);
+}
+
+}  // namespace
+
+TEST_SUITE("lcp") {
+
+TEST_CASE("b >= 0 is solved by z = 0 without pivoting") {
+    LemkeSolver s;
+    const LcpResult r = s.solve(makeLcp(2, {2, 1, 1, 2}, {1, 0}));
+    CHECK(r.status == LcpStatus::solved);
+    CHECK(r.pivots == 0);
+    CHECK(r.z == std::vector<double>{0.0, 0.0});
+}
+
+TEST_CASE("a 2x2 problem with a known answer") {
+    // A = [[2,1],[1,2]], b = [-5,-6]: both active, z = A^-1 (-b) = (4/3, 7/3).
+    LemkeSolver s;
+    const Lcp p = makeLcp(2, {2, 1, 1, 2}, {-5, -6});
+    const LcpResult r = s.solve(p);
+    checkSolution(p, r);
+    CHECK(r.z[0] == doctest::Approx(4.0 / 3.0).epsilon(1e-15));
+    CHECK(r.z[1] == doctest::Approx(7.0 / 3.0).epsilon(1e-15));
+    CHECK(r.basis == std::vector<int>{0, 1});
+    // b = [-1, 4]: only z_0 active, z_0 = 1/2, w_1 = 4.5.
+    const Lcp q = makeLcp(2, {2, 1, 1, 2}, {-1, 4});
+    const LcpResult rq = s.solve(q);
+    checkSolution(q, rq);
+    CHECK(rq.z[0] == doctest::Approx(0.5).epsilon(1e-15));
+    CHECK(rq.z[1] == 0.0);
+    CHECK(rq.w[1] == doctest::Approx(4.5).epsilon(1e-15));
+}
+
+TEST_CASE("random positive definite problems are solved; a warm start from the basis needs no pivot") {
+    LemkeSolver s;
+    for (int n : {1, 2, 5, 20, 60}) {
+        CAPTURE(n);
+        const Lcp p = randomPd(n, std::uint64_t(n) * 977u);
+        const LcpResult cold = s.solve(p);
+        checkSolution(p, cold);
+        LcpOptions o;
+        o.warmBasis = &cold.basis;
+        const LcpResult warm = s.solve(p, o);
+        checkSolution(p, warm);
+        CHECK(warm.warmStarted == !cold.basis.empty());
+        CHECK(warm.pivots == 0);
+        for (int i = 0; i < n; ++i) CHECK(warm.z[std::size_t(i)] == doctest::Approx(cold.z[std::size_t(i)]).epsilon(1e-12).scale(1.0));
+    }
+}
+
+TEST_CASE("a wrong warm basis still converges to the same unique solution") {
+    LemkeSolver s;
+    const Lcp p = randomPd(30, 4242);
+    const LcpResult cold = s.solve(p);
+    checkSolution(p, cold);
+    for (const std::vector<int>& guess : {std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}, std::vector<int>{29, 3, 3, 17},
+                                          std::vector<int>{-1, 2}, std::vector<int>{100}}) {
+        LcpOptions o;
+        o.warmBasis = &guess;
+        const LcpResult r = s.solve(p, o);
+        checkSolution(p, r);
+        for (int i = 0; i < p.n; ++i) CHECK(r.z[std::size_t(i)] == doctest::Approx(cold.z[std::size_t(i)]).epsilon(1e-10).scale(1.0));
+    }
+}
+
+TEST_CASE("invalid input: NaN, infinity and size mismatch are reported, never solved") {
+    LemkeSolver s;
+    Lcp p = makeLcp(2, {2, 1, 1, 2}, {-1, -1});
+    p.A[1] = std::nan("");
+    LcpResult r = s.solve(p);
+    CHECK(r.status == LcpStatus::invalid_input);
+    CHECK(r.message.find("A has a non-finite entry at (0, 1)") != std::string::npos);
+    p = makeLcp(2, {2, 1, 1, 2}, {-1, INFINITY});
+    r = s.solve(p);
+    CHECK(r.status == LcpStatus::invalid_input);
+    CHECK(r.message.find("b has a non-finite") != std::string::npos);
+    p = makeLcp(2, {2, 1, 1, 2}, {-1, -1});
+    p.b.pop_back();
+    CHECK(s.solve(p).status == LcpStatus::invalid_input);
+    CHECK(s.solve(-1, nullptr, nullptr).status == LcpStatus::invalid_input);
+    CHECK(s.solve(Lcp(0)).status == LcpStatus::solved);
+}
+
+TEST_CASE("no solution: the secondary ray is reported as infeasible") {
+    // w1 = z1 - z2 - 1, w2 = -z1 + z2 - 1: w1 + w2 = -2 < 0 for every z, so no solution exists.
+    LemkeSolver s;
+    const LcpResult r = s.solve(makeLcp(2, {1, -1, -1, 1}, {-1, -1}));
+    CHECK(r.status == LcpStatus::infeasible);
+    // A = 0 with b < 0 has no solution either.
+    CHECK(s.solve(makeLcp(1, {0}, {-1})).status == LcpStatus::infeasible);
+}
+
+TEST_CASE("pivot cap and work budget end with pivot_limit, and the counts are deterministic") {
+    LemkeSolver s;
+    const Lcp p = randomPd(40, 99);
+    const LcpResult full = s.solve(p);
+    REQUIRE(full.status == LcpStatus::solved);
+    REQUIRE(full.pivots > 5);
+    LcpOptions capped;
+    capped.maxPivots = full.pivots - 1;
+    const LcpResult c = s.solve(p, capped);
+    CHECK(c.status == LcpStatus::pivot_limit);
+    CHECK(c.pivots == full.pivots - 1);
+    LcpOptions budget;
+    budget.maxWork = full.work - 1;
+    const LcpResult b = s.solve(p, budget);
+    CHECK(b.status == LcpStatus::pivot_limit);
+    CHECK(b.work < full.work);
+    budget.maxWork = full.work;  // exactly enough
+    CHECK(s.solve(p, budget).status == LcpStatus::solved);
+    CHECK(s.solve(p).work == full.work);
+}
+
+TEST_CASE("the same problem gives bit-identical z, whatever the solver solved before") {
+    LemkeSolver fresh;
+    LemkeSolver used;
+    (void)used.solve(randomPd(70, 1));
+    (void)used.solve(randomPd(3, 2));
+    const Lcp p = randomPd(25, 5);
+    const LcpResult a = fresh.solve(p);
+    const LcpResult b = used.solve(p);
+    REQUIRE(a.status == LcpStatus::solved);
+    REQUIRE(a.z.size() == b.z.size());
+    CHECK(std::memcmp(a.z.data(), b.z.data(), a.z.size() * sizeof(double)) == 0);
+    CHECK(std::memcmp(a.w.data(), b.w.data(), a.w.size() * sizeof(double)) == 0);
+    CHECK(a.pivots == b.pivots);
+}
+
+TEST_CASE("status names are stable") {
+    CHECK(std::string(statusName(LcpStatus::solved)) == "solved");
+    CHECK(std::string(statusName(LcpStatus::infeasible)) == "infeasible");
+    CHECK(std::string(statusName(LcpStatus::pivot_limit)) == "pivot_limit");
+    CHECK(std::string(statusName(LcpStatus::invalid_input)) == "invalid_input");
+    CHECK(std::string(statusName(LcpStatus::numerical_failure)) == "numerical_failure");
+}
+
+}  // TEST_SUITE
