@@ -17,6 +17,9 @@
 // anti-cycling rule, evaluated lazily and only for candidates whose ratios tie.
 #include "lcp.h"
 
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -61,7 +64,6 @@ struct Candidate {
 struct LemkeSolver::Workspace {
     int n = 0;
     int cap = 0;
-    const double* A = nullptr;
     const double* b = nullptr;
     std::vector<double> d;  // covering vector (n)
     // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
@@ -80,26 +82,66 @@ struct LemkeSolver::Workspace {
     std::vector<double> zval2;        // (cap)
     std::vector<double> wval2;        // (n)
     std::vector<double> dy, dw, vrow, tmp;
-    double aMax = 0.0, bMax = 0.0;
+    double aMaxA = 0.0;           // max |A_ij|
+    double aMax = 0.0, bMax = 0.0;  // aMax also covers the covering vector d
 
-    double entry(int i, int var) const { return var < n ? A[std::size_t(i) * std::size_t(n) + std::size_t(var)] : d[std::size_t(i)]; }
     double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
 
-    void buildSparsity() {
-        colStart.assign(std::size_t(n) + 1, 0);
+    /// One pass over a dense row-major A: its nonzeros by rows, the largest |A_ij|, and the first non-finite
+    /// entry (returned as its flat index, or -1).
+    long long loadDense(const double* A) {
         rowStart.assign(std::size_t(n) + 1, 0);
-        colRow.clear(); colVal.clear(); rowCol.clear(); rowVal.clear();
+        rowCol.clear();
+        rowVal.clear();
+        aMaxA = 0.0;
         for (int i = 0; i < n; ++i) {
+            const double* Ai = A + std::size_t(i) * std::size_t(n);
             for (int j = 0; j < n; ++j) {
-                const double v = A[std::size_t(i) * std::size_t(n) + std::size_t(j)];
-                if (v != 0.0) {
-                    rowCol.push_back(j);
-                    rowVal.push_back(v);
-                    ++colStart[std::size_t(j) + 1];
-                }
+                const double v = Ai[j];
+                if (v == 0.0) continue;
+                if (!std::isfinite(v)) return (long long)i * n + j;
+                aMaxA = std::max(aMaxA, std::fabs(v));
+                rowCol.push_back(j);
+                rowVal.push_back(v);
             }
             rowStart[std::size_t(i) + 1] = int(rowCol.size());
         }
+        buildColumns();
+        return -1;
+    }
+
+    /// Copies a compressed-row A; returns an empty string or what is wrong with it.
+    std::string loadSparse(const SparseLcp& lcp) {
+        if (lcp.rowStart.size() != std::size_t(n) + 1 || lcp.rowStart[0] != 0 ||
+            lcp.cols.size() != lcp.vals.size() || std::size_t(lcp.rowStart[std::size_t(n)]) != lcp.cols.size())
+            return "sparse LCP: rowStart must have n + 1 entries from 0 to the number of entries";
+        rowStart = lcp.rowStart;
+        rowCol.clear();
+        rowVal.clear();
+        aMaxA = 0.0;
+        for (int i = 0; i < n; ++i) {
+            if (rowStart[std::size_t(i) + 1] < rowStart[std::size_t(i)]) return "sparse LCP: rowStart must not decrease";
+            for (int k = lcp.rowStart[std::size_t(i)]; k < lcp.rowStart[std::size_t(i) + 1]; ++k) {
+                const int j = lcp.cols[std::size_t(k)];
+                const double v = lcp.vals[std::size_t(k)];
+                if (j < 0 || j >= n) return "sparse LCP: column index out of range in row " + std::to_string(i);
+                if (k > lcp.rowStart[std::size_t(i)] && j <= lcp.cols[std::size_t(k) - 1])
+                    return "sparse LCP: columns of row " + std::to_string(i) + " must be strictly increasing";
+                if (!std::isfinite(v))
+                    return "A has a non-finite entry at (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+                aMaxA = std::max(aMaxA, std::fabs(v));
+                rowCol.push_back(j);
+                rowVal.push_back(v);
+            }
+        }
+        buildColumns();
+        return {};
+    }
+
+    /// The column-major copy of the row pattern (rows ascending within each column).
+    void buildColumns() {
+        colStart.assign(std::size_t(n) + 1, 0);
+        for (int j : rowCol) ++colStart[std::size_t(j) + 1];
         for (int j = 0; j < n; ++j) colStart[std::size_t(j) + 1] += colStart[std::size_t(j)];
         colRow.resize(rowCol.size());
         colVal.resize(rowCol.size());
@@ -124,7 +166,7 @@ struct LemkeSolver::Workspace {
         }
     }
 
-    /// vrow[p] = sum_q entry(i, colVar[q]) * Binv[q][p]: row i of [A | d] restricted to the block columns, times Binv.
+    /// vrow[p] = sum_q [A | d](i, colVar[q]) * Binv[q][p]: row i of [A | d] restricted to the block columns, times Binv.
     void rowTimesBinv(int i, double* out) {
         std::fill(out, out + m, 0.0);
         for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
@@ -151,16 +193,20 @@ struct LemkeSolver::Workspace {
         if (enteringVar >= 0) addColumn(enteringVar, 1.0, dw.data());
     }
 
-    /// Inverts the block M[p][q] = entry(rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
+    /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
     bool refactor() {
         const std::size_t mm = std::size_t(m);
-        std::vector<double> M(mm * mm);
+        std::vector<double> M(mm * mm, 0.0);
         double scale = 0.0;
+        const int q0 = posCol[std::size_t(n)];
         for (int p = 0; p < m; ++p) {
-            for (int q = 0; q < m; ++q) {
-                M[std::size_t(p) * mm + std::size_t(q)] = entry(rowIdx[std::size_t(p)], colVar[std::size_t(q)]);
-                scale = std::max(scale, std::fabs(M[std::size_t(p) * mm + std::size_t(q)]));
+            const int i = rowIdx[std::size_t(p)];
+            for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+                const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
+                if (q >= 0) M[std::size_t(p) * mm + std::size_t(q)] = rowVal[std::size_t(k)];
             }
+            if (q0 >= 0) M[std::size_t(p) * mm + std::size_t(q0)] = d[std::size_t(i)];
+            for (int q = 0; q < m; ++q) scale = std::max(scale, std::fabs(M[std::size_t(p) * mm + std::size_t(q)]));
         }
         // Solve M X = I; X (q x p) is Binv. Work on [M | I] row-reduced.
         std::vector<double> I(mm * mm, 0.0);
@@ -260,6 +306,71 @@ struct LemkeSolver::Workspace {
     }
 };
 
+namespace {
+
+// The guessed basis is usually exactly right (the previous step's basis, matched through contact ids). Checking it
+// needs only A_{alpha,alpha}^-1 b_alpha, which a sparse LU gives in O(nnz)-ish work; the dense block inverse that
+// further pivots would need is built only when the guess turns out wrong. True when `out` holds the solution.
+bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
+                        double scale, LcpResult& out) {
+    const int n = ws.n;
+    const int k = int(guess.size());
+    std::vector<int> pos(std::size_t(n), -1);
+    for (int q = 0; q < k; ++q) pos[std::size_t(guess[std::size_t(q)])] = q;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int q = 0; q < k; ++q) {
+        const int i = guess[std::size_t(q)];
+        for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
+            const int c = pos[std::size_t(ws.rowCol[std::size_t(t)])];
+            if (c >= 0) entries.emplace_back(q, c, ws.rowVal[std::size_t(t)]);
+        }
+    }
+    Eigen::SparseMatrix<double> M(k, k);
+    M.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+    lu.compute(M);
+    if (lu.info() != Eigen::Success) return false;
+    Eigen::VectorXd rhs(k);
+    for (int q = 0; q < k; ++q) rhs[q] = -ws.b[guess[std::size_t(q)]];
+    Eigen::VectorXd z = lu.solve(rhs);
+    std::vector<double> w(static_cast<std::size_t>(n), 0.0);
+    auto computeW = [&]() {
+        std::copy(ws.b, ws.b + n, w.begin());
+        for (int q = 0; q < k; ++q) ws.addColumn(guess[std::size_t(q)], z[q], w.data());
+    };
+    computeW();
+    Eigen::VectorXd r(k);  // one step of iterative refinement: w_alpha should be exactly 0
+    for (int q = 0; q < k; ++q) r[q] = w[std::size_t(guess[std::size_t(q)])];
+    z -= lu.solve(r);
+    computeW();
+    double zMax = 0.0;
+    for (int q = 0; q < k; ++q) {
+        if (!std::isfinite(z[q])) return false;
+        zMax = std::max(zMax, std::fabs(z[q]));
+    }
+    const double zeroY = 1e-13 * std::max(zMax, kTiny);
+    const double zeroW = 1e-13 * (ws.bMax + ws.aMax * zMax);
+    for (int q = 0; q < k; ++q) {
+        if (z[q] < -zeroY) return false;
+    }
+    for (int i = 0; i < n; ++i) {
+        if (pos[std::size_t(i)] < 0 && w[std::size_t(i)] < -zeroW) return false;
+    }
+    std::fill(out.z.begin(), out.z.end(), 0.0);
+    for (int q = 0; q < k; ++q) out.z[std::size_t(guess[std::size_t(q)])] = z[q];
+    out.w = w;
+    out.residual = complementarityResidual(out.z, out.w);
+    out.scaledResidual = out.residual / scale;
+    if (!(out.scaledResidual <= options.residualTolerance)) return false;
+    out.status = LcpStatus::solved;
+    out.basis = guess;
+    out.warmStarted = true;
+    out.work = std::uint64_t(M.nonZeros()) + std::uint64_t(n);
+    return true;
+}
+
+}  // namespace
+
 LcpResult LemkeSolver::solve(const Lcp& problem, const LcpOptions& options) {
     if (problem.n < 0 || problem.A.size() != std::size_t(problem.n) * std::size_t(problem.n) ||
         problem.b.size() != std::size_t(problem.n)) {
@@ -272,24 +383,61 @@ LcpResult LemkeSolver::solve(const Lcp& problem, const LcpOptions& options) {
 }
 
 LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpOptions& options) {
-    LcpResult result;
     if (n < 0 || (n > 0 && (A == nullptr || b == nullptr))) {
+        LcpResult result;
         result.message = "LCP size must be >= 0 with A and b given";
         return result;
     }
-    const std::size_t nn = std::size_t(n);
     Workspace ws;
     ws.n = n;
-    ws.cap = n + 1;
-    ws.A = A;
-    ws.b = b;
-    for (std::size_t k = 0; k < nn * nn; ++k) {
-        if (!std::isfinite(A[k])) {
-            result.message = "A has a non-finite entry at (" + std::to_string(k / nn) + ", " + std::to_string(k % nn) + ")";
-            return result;
-        }
-        ws.aMax = std::max(ws.aMax, std::fabs(A[k]));
+    const long long bad = ws.loadDense(A);
+    if (bad >= 0) {
+        LcpResult result;
+        result.message = "A has a non-finite entry at (" + std::to_string(bad / n) + ", " + std::to_string(bad % n) + ")";
+        return result;
     }
+    return run(ws, b, options);
+}
+
+LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options) {
+    LcpResult result;
+    if (problem.n < 0 || problem.b.size() != std::size_t(problem.n)) {
+        result.message = "LCP sizes do not match: b must have n entries";
+        return result;
+    }
+    Workspace ws;
+    ws.n = problem.n;
+    result.message = ws.loadSparse(problem);
+    if (!result.message.empty()) return result;
+    return run(ws, problem.b.data(), options);
+}
+
+SparseLcp toSparse(const Lcp& lcp) {
+    SparseLcp out;
+    out.n = lcp.n;
+    out.b = lcp.b;
+    out.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    for (int i = 0; i < lcp.n; ++i) {
+        for (int j = 0; j < lcp.n; ++j) {
+            if (lcp.at(i, j) != 0.0) {
+                out.cols.push_back(j);
+                out.vals.push_back(lcp.at(i, j));
+            }
+        }
+        out.rowStart[std::size_t(i) + 1] = int(out.cols.size());
+    }
+    return out;
+}
+
+LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& options) {
+    LcpResult result;
+    const int n = ws.n;
+    const std::size_t nn = std::size_t(n);
+    ws.cap = n + 1;
+    ws.b = b;
+    ws.aMax = ws.aMaxA;
+    ws.bMax = 0.0;
+    ws.m = 0;
     for (std::size_t i = 0; i < nn; ++i) {
         if (!std::isfinite(b[i])) {
             result.message = "b has a non-finite entry at " + std::to_string(i);
@@ -311,7 +459,6 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
     };
     if (n == 0) return finishWith(LcpStatus::solved, nullptr);
 
-    ws.buildSparsity();
     mBinv.resize(std::size_t(ws.cap) * std::size_t(ws.cap));
     ws.Binv = mBinv.data();
     ws.rowIdx.assign(std::size_t(ws.cap), -1);
@@ -343,6 +490,7 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
         std::sort(guess.begin(), guess.end());
         guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
         const bool inRange = guess.front() >= 0 && guess.back() < n;
+        if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
         if (inRange) {
             ws.m = int(guess.size());
             for (int q = 0; q < ws.m; ++q) {
@@ -514,7 +662,7 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
                 // The warm basis could not be repaired by z0 along this covering vector: start cold.
                 LcpOptions cold = options;
                 cold.warmBasis = nullptr;
-                LcpResult r = solve(n, A, b, cold);
+                LcpResult r = run(ws, b, cold);
                 r.pivots += result.pivots;
                 r.work += result.work;
                 return r;

@@ -30,6 +30,20 @@ struct Lcp {
     double at(int i, int j) const { return A[std::size_t(i) * std::size_t(n) + std::size_t(j)]; }
 };
 
+/// A sparse LCP in compressed rows: row i holds A(i, cols[k]) = vals[k] for k in [rowStart[i], rowStart[i+1]),
+/// columns strictly increasing within a row. Contact LCPs are sparse (nodes couple only through shared bodies);
+/// this form skips the O(n^2) scan of a dense matrix.
+struct SparseLcp {
+    int n = 0;
+    std::vector<int> rowStart;  ///< (n + 1)
+    std::vector<int> cols;      ///< (nnz)
+    std::vector<double> vals;   ///< (nnz)
+    std::vector<double> b;      ///< (n)
+};
+
+/// The nonzeros of a dense LCP in compressed rows.
+SparseLcp toSparse(const Lcp& lcp);
+
 /// How a solve ended. Only `solved` carries a usable z.
 enum class LcpStatus {
     solved,            ///< z0 left the basis and the residual check passed
@@ -89,9 +103,14 @@ public:
     LcpResult solve(const Lcp& problem, const LcpOptions& options = {});
     /// Same, on raw arrays: A is (n x n) row-major, b is (n).
     LcpResult solve(int n, const double* A, const double* b, const LcpOptions& options = {});
+    /// Same, on a compressed-row matrix. Gives bit-identical results to the dense call on the same matrix.
+    LcpResult solve(const SparseLcp& problem, const LcpOptions& options = {});
+
+    /// Per-solve state (defined in lcp.cpp); public only so that lcp.cpp's helpers can name it.
+    struct Workspace;
 
 private:
-    struct Workspace;
+    LcpResult run(Workspace& ws, const double* b, const LcpOptions& options);
     std::vector<double> mBinv;  // explicit inverse of the compact basis block, (capacity x capacity)
     std::vector<double> mScratch;
 };

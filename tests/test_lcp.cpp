@@ -178,6 +178,37 @@ TEST_CASE("the same problem gives bit-identical z, whatever the solver solved be
     CHECK(a.pivots == b.pivots);
 }
 
+TEST_CASE("the compressed-row entry point gives the same bits as the dense one, and checks its input") {
+    LemkeSolver s;
+    Lcp p = randomPd(30, 77);
+    for (int i = 0; i < 30; ++i) {  // make it sparse: keep a band
+        for (int j = 0; j < 30; ++j) {
+            if (std::abs(i - j) > 3) p.at(i, j) = 0.0;
+        }
+        p.at(i, i) += 2.0;  // still positive definite (diagonally dominant enough)
+    }
+    const SparseLcp sp = toSparse(p);
+    CHECK(sp.vals.size() < std::size_t(30 * 30));
+    const LcpResult a = s.solve(p);
+    const LcpResult b = s.solve(sp);
+    checkSolution(p, a);
+    REQUIRE(b.status == LcpStatus::solved);
+    CHECK(std::memcmp(a.z.data(), b.z.data(), a.z.size() * sizeof(double)) == 0);
+    CHECK(a.pivots == b.pivots);
+    SparseLcp bad = sp;
+    bad.cols[1] = bad.cols[0];  // not strictly increasing
+    CHECK(s.solve(bad).status == LcpStatus::invalid_input);
+    bad = sp;
+    bad.cols[0] = 99;
+    CHECK(s.solve(bad).message.find("out of range") != std::string::npos);
+    bad = sp;
+    bad.vals[3] = std::nan("");
+    CHECK(s.solve(bad).message.find("non-finite") != std::string::npos);
+    bad = sp;
+    bad.rowStart.pop_back();
+    CHECK(s.solve(bad).status == LcpStatus::invalid_input);
+}
+
 TEST_CASE("status names are stable") {
     CHECK(std::string(statusName(LcpStatus::solved)) == "solved");
     CHECK(std::string(statusName(LcpStatus::infeasible)) == "infeasible");
