@@ -106,14 +106,18 @@ void requirePositive(int value, const char* what) {
 LcpCase murty(int n) {
     requirePositive(n, "murty size");
     // Murty (1978), "Computational complexity of complementary pivot methods": M lower triangular with 1 on the
-    // diagonal and 2 below, q = -e. The only solution is z = e_1 (w_1 = 0, w_i = 2 - 1 = 1 for i > 1).
+    // diagonal and 2 below, q = -e. With q = -e the very first ratio test is an n-way tie, and which path Lemke
+    // takes depends on its tie rule (the classical lexicographic rule walks all 2^n bases). b_i = -1 + 0.01 2^-(i+1)
+    // resolves that tie exactly as the lexicographic rule does, so every correct Lemke now walks the same forced,
+    // non-degenerate path of 2^n pivots (counting the one where z0 enters). The solution is z = (-b_0, 0, ..., 0):
+    // w_i = 2 z_0 + b_i > 0 for i > 0.
     LcpCase out;
     out.name = sizeName("murty", n);
     out.lcp = Lcp(n);
     for (int i = 0; i < n; ++i) {
         out.lcp.at(i, i) = 1.0;
         for (int j = 0; j < i; ++j) out.lcp.at(i, j) = 2.0;
-        out.lcp.b[std::size_t(i)] = -1.0;
+        out.lcp.b[std::size_t(i)] = -1.0 + 0.01 * std::ldexp(1.0, -(i + 1));
     }
     out.expected = "solved";
     out.expectedPivots = pow2OrUnknown(n);
@@ -341,6 +345,18 @@ double scaledResidual(const Lcp& lcp, const std::vector<double>& z) {
     return residual / scale;
 }
 
+LcpCase nondegenerate(LcpCase c, double delta) {
+    double bMax = 0.0;
+    for (double v : c.lcp.b) bMax = std::max(bMax, std::fabs(v));
+    for (std::size_t i = 0; i < c.lcp.b.size(); ++i) {
+        const double t = double(i + 1) * 0.7548776662466927;  // plastic-number fractions: distinct, in [0, 1)
+        c.lcp.b[i] -= delta * bMax * (1.0 + (t - std::floor(t)));
+    }
+    c.name += "_nondegenerate";
+    c.expectedPivots = -1;
+    return c;
+}
+
 std::vector<LcpCase> standardCases(bool quick) {
     std::vector<LcpCase> cases;
     if (quick) {
@@ -358,10 +374,12 @@ std::vector<LcpCase> standardCases(bool quick) {
         return cases;
     }
     for (int rows : {9, 13, 17, 20}) cases.push_back(pyramid2d(rows, false));  // n = 162, 338, 578, 800
+    cases.push_back(nondegenerate(pyramid2d(20, false)));                     // n = 800, ties removed
     for (int rows : {5, 7, 10}) cases.push_back(pyramid2d(rows, true));       // n = 200, 392, 800
     cases.push_back(column2d(20, false));                                      // n = 40
     cases.push_back(column2d(20, true));                                       // n = 160
     for (int count : {25, 50, 100}) cases.push_back(cubeStack3d(count));        // n = 100, 200, 400
+    cases.push_back(nondegenerate(cubeStack3d(100)));
     cases.push_back(cubeStack3d(25, true));                                    // n = 600
     cases.push_back(cradleChain(10, 0.5));
     cases.push_back(cradleChain(50, 0.5));

@@ -49,10 +49,11 @@ constexpr double kSettledFallSpeed = 9.8 / 60.0;
 
 // ---- Pure matrix families ----------------------------------------------------------------------------------
 
-/// Murty's (1978) matrix: A_ii = 1, A_ij = 2 for j < i (lower triangular), A_ij = 0 above; b = -1. A is a
-/// P-matrix; the unique solution is z = e_1. Lexicographic Lemke with covering vector 1 walks 2^n bases, i.e.
-/// expectedPivots = 2^n counting the pivot where z0 enters (2^n - 1 after it); -1 when n > 30. Note: the
-/// transposed (upper-triangular) form is easy, 2 pivots for every n under the lexicographic first pivot.
+/// Murty's (1978) matrix: A_ii = 1, A_ij = 2 for j < i (lower triangular), A_ij = 0 above; b_i = -1 + 0.01 2^-(i+1),
+/// i.e. Murty's b = -1 with its n-way first tie resolved the way the lexicographic rule resolves it, so the path
+/// no longer depends on the tie rule. A is a P-matrix; the unique solution is z = (-b_0, 0, ..., 0). Lemke with
+/// covering vector 1 walks 2^n bases: expectedPivots = 2^n counting the pivot where z0 enters (2^n - 1 after it);
+/// -1 when n > 30. The transposed (upper-triangular) form is easy: 2 pivots for every n.
 LcpCase murty(int n);
 
 /// Fathi's symmetric positive definite family A = L L^T, L = I + 2 * (strict lower part of ones). b = -1, or,
@@ -106,6 +107,11 @@ Scene3 cubeStack3dScene(int count);
 LcpCase cubeStack3d(int count, bool friction = false);
 
 // ---- Helpers -------------------------------------------------------------------------------------------------
+
+/// The same LCP with every b_i lowered by a tiny index-dependent amount, delta * max|b| * (1 + frac(0.7548... i)).
+/// Resting contacts (b_i = 0) then approach very slowly instead of not at all, which removes the exact ratio ties
+/// of settled scenes. The benchmark uses it to time a peer that cannot solve the degenerate original.
+LcpCase nondegenerate(LcpCase c, double delta = 1e-6);
 
 /// max_i |min(z_i, w_i)| with w = A z + b recomputed here, divided by max(max|A_ij|, max|b_i|) (1 if both are 0).
 /// Returns +infinity when z has the wrong size or a non-finite entry.
