@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace unison {
 
@@ -69,6 +70,7 @@ struct LemkeSolver::Workspace {
     // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
     std::vector<int> colStart, colRow, rowStart, rowCol;
     std::vector<double> colVal, rowVal;
+    std::vector<double> binvStore;  // storage of Binv, kept between solves (grows, never shrinks)
     double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
     int m = 0;
     std::vector<int> rowIdx, posRow;  // block row p <-> index i (posRow[i] = -1: w_i basic)
@@ -82,6 +84,7 @@ struct LemkeSolver::Workspace {
     std::vector<double> zval2;        // (cap)
     std::vector<double> wval2;        // (n)
     std::vector<double> dy, dw, vrow, tmp;
+    std::vector<Candidate> cands, tied;
     double aMaxA = 0.0;           // max |A_ij|
     double aMax = 0.0, bMax = 0.0;  // aMax also covers the covering vector d
 
@@ -371,6 +374,16 @@ bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>
 
 }  // namespace
 
+LemkeSolver::LemkeSolver() = default;
+LemkeSolver::~LemkeSolver() = default;
+LemkeSolver::LemkeSolver(LemkeSolver&&) noexcept = default;
+LemkeSolver& LemkeSolver::operator=(LemkeSolver&&) noexcept = default;
+
+LemkeSolver::Workspace& LemkeSolver::workspace() {
+    if (!mWorkspace) mWorkspace = std::make_unique<Workspace>();
+    return *mWorkspace;
+}
+
 LcpResult LemkeSolver::solve(const Lcp& problem, const LcpOptions& options) {
     if (problem.n < 0 || problem.A.size() != std::size_t(problem.n) * std::size_t(problem.n) ||
         problem.b.size() != std::size_t(problem.n)) {
@@ -388,7 +401,7 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
         result.message = "LCP size must be >= 0 with A and b given";
         return result;
     }
-    Workspace ws;
+    Workspace& ws = workspace();
     ws.n = n;
     const long long bad = ws.loadDense(A);
     if (bad >= 0) {
@@ -405,7 +418,7 @@ LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options
         result.message = "LCP sizes do not match: b must have n entries";
         return result;
     }
-    Workspace ws;
+    Workspace& ws = workspace();
     ws.n = problem.n;
     result.message = ws.loadSparse(problem);
     if (!result.message.empty()) return result;
@@ -459,8 +472,9 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     };
     if (n == 0) return finishWith(LcpStatus::solved, nullptr);
 
-    mBinv.resize(std::size_t(ws.cap) * std::size_t(ws.cap));
-    ws.Binv = mBinv.data();
+    if (ws.binvStore.size() < std::size_t(ws.cap) * std::size_t(ws.cap))
+        ws.binvStore.resize(std::size_t(ws.cap) * std::size_t(ws.cap));
+    ws.Binv = ws.binvStore.data();
     ws.rowIdx.assign(std::size_t(ws.cap), -1);
     ws.colVar.assign(std::size_t(ws.cap), -1);
     ws.posRow.assign(nn, -1);
@@ -578,7 +592,8 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     bool enterIsColumn = true;
     bool startStep = true;  // the first pivot: z0 enters, the most negative basic value leaves
     int sinceRefactor = 0;
-    std::vector<Candidate> cands, tied;
+    std::vector<Candidate>& cands = ws.cands;
+    std::vector<Candidate>& tied = ws.tied;
 
     for (;;) {
         const std::uint64_t cost = std::uint64_t(ws.m + 1) * std::uint64_t(ws.m + 1) + std::uint64_t(n);

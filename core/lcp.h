@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -97,9 +98,15 @@ double complementarityResidual(const std::vector<double>& z, const std::vector<d
 /// basic z's instead of the O(n^2) of a full tableau.
 ///
 /// The object keeps its buffers between calls, so a game loop can reuse one solver per thread without
-/// allocating. It holds no other state: the result of solve() depends only on its arguments.
+/// allocating once the buffers have grown to the largest island. It holds no other state: the result of solve()
+/// depends only on its arguments (tested bit for bit).
 class LemkeSolver {
 public:
+    LemkeSolver();
+    ~LemkeSolver();
+    LemkeSolver(LemkeSolver&&) noexcept;
+    LemkeSolver& operator=(LemkeSolver&&) noexcept;
+
     LcpResult solve(const Lcp& problem, const LcpOptions& options = {});
     /// Same, on raw arrays: A is (n x n) row-major, b is (n).
     LcpResult solve(int n, const double* A, const double* b, const LcpOptions& options = {});
@@ -111,8 +118,8 @@ public:
 
 private:
     LcpResult run(Workspace& ws, const double* b, const LcpOptions& options);
-    std::vector<double> mBinv;  // explicit inverse of the compact basis block, (capacity x capacity)
-    std::vector<double> mScratch;
+    Workspace& workspace();
+    std::unique_ptr<Workspace> mWorkspace;  // buffers reused between solves; no state carries over
 };
 
 }  // namespace unison
