@@ -42,6 +42,20 @@ struct ContactNode {
                                          ///< correction: b_i -= bias; >= 0
 };
 
+/// A node from its parts (the paper's section 3 list): bodies a and b, point, normal away from b, e and mu.
+template <class D>
+ContactNode<D> makeContact(int a, int b, const typename D::Vec& point, const typename D::Vec& normal,
+                           double restitution = 0.0, double friction = 0.0) {
+    ContactNode<D> c;
+    c.a = a;
+    c.b = b;
+    c.point = point;
+    c.normal = normal;
+    c.restitution = restitution;
+    c.friction = friction;
+    return c;
+}
+
 struct ResolverOptions {
     /// Approach speeds (m/s) at or below this use e = 0: "slower or resting contacts" of DESIGN.md step 5.
     /// The paper's pure impulse model is threshold 0.

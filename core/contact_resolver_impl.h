@@ -105,6 +105,16 @@ double normalRhs(const std::vector<ResolverBody<D>>& bodies, const ContactNode<D
     return (1.0 + e) * vrel - c.bias;
 }
 
+// Status, counts, basis and message of a Lemke solve, moved into the resolver's report.
+inline void takeSolveReport(LcpResult& r, Resolution& out) {
+    out.status = r.status;
+    out.pivots = r.pivots;
+    out.work = r.work;
+    out.residual = r.residual;
+    out.basis = std::move(r.basis);
+    out.message = std::move(r.message);
+}
+
 template <class D>
 std::string fail(const char* what, int index, const char* why) {
     return std::string(what) + " " + std::to_string(index) + ": " + why;
@@ -245,12 +255,7 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
         out.status = LcpStatus::solved;
     } else if (lcp.n > 1) {
         LcpResult r = solver.solve(lcp, options.lcp);
-        out.status = r.status;
-        out.pivots = r.pivots;
-        out.work = r.work;
-        out.residual = r.residual;
-        out.basis = std::move(r.basis);
-        out.message = std::move(r.message);
+        detail::takeSolveReport(r, out);
         if (r.status != LcpStatus::solved) return out;
         out.impulses = std::move(r.z);
     } else {
@@ -269,12 +274,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     FrictionLayout layout;
     const Lcp lcp = assembleFrictionLcp(ioBodies, contacts, options, &layout);
     LcpResult r = solver.solve(lcp, options.lcp);
-    out.status = r.status;
-    out.pivots = r.pivots;
-    out.work = r.work;
-    out.residual = r.residual;
-    out.basis = std::move(r.basis);
-    out.message = std::move(r.message);
+    detail::takeSolveReport(r, out);
     if (r.status != LcpStatus::solved) return out;
     const int nc = layout.contacts;
     const int k = layout.directions;

@@ -79,15 +79,7 @@ bool billiard(const std::string& dir) {
     bodies[0].velocity = {1.0, 0.0};
     bodies[1].position = {2 * R * c30, R};
     bodies[2].position = {2 * R * c30, -R};
-    auto node = [](int a, int b, Vec2 p, Vec2 n, double rest) {
-        Contact2 c;
-        c.a = a;
-        c.b = b;
-        c.point = p;
-        c.normal = n;
-        c.restitution = rest;
-        return c;
-    };
+    const auto node = [](int a, int b, Vec2 p, Vec2 n, double rest) { return makeContact<Dim2>(a, b, p, n, rest); };
     const std::vector<Contact2> contacts{node(1, 0, {R * c30, 0.5 * R}, {c30, 0.5}, e),
                                          node(2, 0, {R * c30, -0.5 * R}, {c30, -0.5}, e),
                                          node(1, 2, {2 * R * c30, 0.0}, {0.0, 1.0}, e)};

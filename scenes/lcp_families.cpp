@@ -62,14 +62,7 @@ ResolverBody<Dim2> settledBox2(Vec2 position) {
 }
 
 ContactNode<Dim2> node2(int a, int b, Vec2 point, Vec2 normal, double restitution, double friction) {
-    ContactNode<Dim2> c;
-    c.a = a;
-    c.b = b;
-    c.point = point;
-    c.normal = normal;
-    c.restitution = restitution;
-    c.friction = friction;
-    return c;
+    return makeContact<Dim2>(a, b, point, normal, restitution, friction);
 }
 
 // Two contact points at the ends of the overlap of [upperX - h, upperX + h] and [lowerX - h, lowerX + h] (an

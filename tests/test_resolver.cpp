@@ -26,15 +26,7 @@ Body2 ball2(double mass, double radius, Vec2 position, Vec2 velocity) {
 
 Body2 ground2() { return Body2{}; }  // zero inverse mass and inertia: the paper's infinite-mass dummy body
 
-Contact2 node2(int a, int b, Vec2 point, Vec2 normal, double e) {
-    Contact2 c;
-    c.a = a;
-    c.b = b;
-    c.point = point;
-    c.normal = normal;
-    c.restitution = e;
-    return c;
-}
+Contact2 node2(int a, int b, Vec2 point, Vec2 normal, double e) { return makeContact<Dim2>(a, b, point, normal, e); }
 
 double kinetic(const std::vector<Body2>& bodies) {
     double k = 0.0;
