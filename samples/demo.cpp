@@ -40,8 +40,8 @@ void sequentialImpulses(std::vector<Body2>& bodies, const std::vector<Contact2>&
 void drawCradleRow(svg::Picture& pic, const std::vector<Body2>& bodies, double y, const std::string& label,
                    const std::string& color) {
     pic.text(-0.6, y + 0.8, label, 16);
+    for (const Body2& b : bodies) pic.circle(b.position.x, y, 0.5, "#dde6f0");
     for (const Body2& b : bodies) {
-        pic.circle(b.position.x, y, 0.5, "#dde6f0");
         if (std::fabs(b.velocity.x) > 1e-9) pic.arrow(b.position.x, y, 1.2 * b.velocity.x, 0.0, color);
         char buf[32];
         std::snprintf(buf, sizeof buf, "%+.3f", b.velocity.x);
@@ -137,6 +137,7 @@ bool pyramid(const std::string& dir) {
     std::snprintf(title, sizeof title, "red bars: contact impulses (largest %.3f N s); warm start from the basis: %d pivots",
                   fMax, warm.pivots);
     pic.text(-5.4, 9.7, title, 13);
+    pic.text(-5.4, 9.3, "A has rank 3 per box, so the impulses are one of many valid sets; the velocities are unique: all zero", 13);
     std::printf("pyramid   20 rows n=%d  cold: %s %d pivots %.2f ms residual %.1e | warm: %s %d pivots %.3f ms\n", lcp.n,
                 statusName(cold.status), cold.pivots, coldMs, cold.scaledResidual, statusName(warm.status), warm.pivots, warmMs);
     return cold.status == LcpStatus::solved && pic.save(dir + "/pyramid.svg");
