@@ -38,8 +38,9 @@ struct ContactNode {
     typename D::Vec normal = D::zeroVec();  ///< unit normal, pointing away from B towards A
     double restitution = 0.0;            ///< coefficient of restitution e of this point, in [0, 1]
     double friction = 0.0;               ///< Coulomb coefficient mu (used only by the friction LCP)
-    double bias = 0.0;                   ///< separation speed the node must reach (m/s), e.g. position
-                                         ///< correction: b_i -= bias; >= 0
+    double bias = 0.0;                   ///< separation speed the node must reach (m/s): b_i -= bias. Positive
+                                         ///< pushes apart (position correction), negative lets a speculative
+                                         ///< contact still close its gap (-separation / dt)
 };
 
 /// A node from its parts (the paper's section 3 list): bodies a and b, point, normal away from b, e and mu.

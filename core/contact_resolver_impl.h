@@ -150,7 +150,7 @@ std::string validate(const std::vector<ResolverBody<D>>& bodies, const std::vect
             return detail::fail<D>("contact", i, "restitution must be in [0, 1]");
         if (!(c.friction >= 0.0) || !std::isfinite(c.friction))
             return detail::fail<D>("contact", i, "friction must be finite and >= 0");
-        if (!(c.bias >= 0.0) || !std::isfinite(c.bias)) return detail::fail<D>("contact", i, "bias must be finite and >= 0");
+        if (!std::isfinite(c.bias)) return detail::fail<D>("contact", i, "bias must be finite");
     }
     return {};
 }

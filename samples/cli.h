@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <iosfwd>
 #include <string>
 
 namespace unison::cli {
@@ -29,5 +30,10 @@ CommandOutput runLcp(const Lcp& lcp, int maxPivots);
 
 /// `unison resolve`: the paper's resolver on one JSON problem (DESIGN.md); exit 0 only if solved.
 CommandOutput runResolve(const nlohmann::json& input, const std::string& what);
+
+/// `unison run`: steps a scene, printing {"step", "hash"} every `hashEvery` steps (0: never) and a final JSON
+/// object with every body's state and the step statistics to `out`. Returns 0, or 1 when some island's LCP
+/// failed during the run. Bad scenes throw InputError.
+int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out);
 
 }  // namespace unison::cli

@@ -22,6 +22,15 @@ int main(int argc, char** argv) {
     auto* resolve = app.add_subcommand("resolve", "run the paper's collision resolver on a JSON problem");
     resolve->add_option("FILE", resolveFile, "resolver JSON file")->required();
 
+    std::string sceneFile;
+    int steps = 60;
+    int hashEvery = 0;
+    auto* run = app.add_subcommand("run", "step a 2D scene and print state hashes and final body states");
+    run->add_option("SCENE", sceneFile, "scene JSON file")->required();
+    run->add_option("--steps", steps, "number of steps (default 60)")->check(CLI::NonNegativeNumber);
+    run->add_option("--hash-every", hashEvery, "print {\"step\", \"hash\"} every K steps (0: never)")
+        ->check(CLI::NonNegativeNumber);
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -34,6 +43,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        if (*run) return runScene(parseJson(readFile(sceneFile), sceneFile), sceneFile, steps, hashEvery, std::cout);
         CommandOutput out;
         if (*lcp) {
             out = runLcp(parseLcpText(readFile(lcpFile), lcpFile), maxPivots);

@@ -1,0 +1,164 @@
+// resolver2d/world2d.h — the 2D world: bodies with shapes, and the step of DESIGN.md.
+//
+// Owns: the body store (generational ids, hot state separate from cold data), the contacts found each step, their
+// warm-start cache keyed by feature ids, islands, sleeping, and the per-step events and statistics.
+// The step: gravity into velocities; broadphase (sort and sweep, index order); narrowphase manifolds (<= 2 points
+// per pair, stable feature ids); islands by union-find over dynamic bodies (statics never join); per island one
+// Coulomb-pyramid LCP built by the paper's resolver and solved by Lemke, warm-started from the previous step's
+// basis matched through feature ids; impulses applied; positions integrated; events recorded.
+// Invariants: every loop runs in body, shape or contact index order; no unordered containers; no libm
+// transcendental function (rotations are stored as cosine/sine and integrated without trigonometry).
+#pragma once
+
+#include "body_store.h"
+#include "collide2d.h"
+#include "dim2.h"
+#include "lcp.h"
+#include "shapes2d.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace unison {
+
+enum class BodyType : std::uint8_t { staticBody, kinematicBody, dynamicBody };
+
+/// How to create a body. Angles in radians, velocities in m/s and rad/s.
+struct BodyDef2 {
+    BodyType type = BodyType::dynamicBody;
+    Vec2 position;           ///< origin of the body frame (m)
+    double angle = 0.0;      ///< rad
+    Vec2 linearVelocity;     ///< of the centre of mass (m/s)
+    double angularVelocity = 0.0;
+};
+
+/// World settings. Defaults follow Box2D 2.4.1 where it has the same notion.
+struct WorldDef2 {
+    Vec2 gravity{0.0, -10.0};           ///< m/s^2
+    double hz = 60.0;                    ///< steps per second
+    double restitutionThreshold = 1.0;   ///< approach speeds below this (m/s) use e = 0
+    double linearSlop = 0.005;           ///< allowed penetration (m)
+    double baumgarte = 0.2;              ///< fraction of the penetration beyond the slop removed per step
+    double maxCorrectionSpeed = 3.0;     ///< cap of the position-correction velocity (m/s)
+    double speculativeDistance = 0.02;   ///< contacts this far apart are already in the LCP (m)
+    bool enableSleep = true;
+    double linearSleepTolerance = 0.01;  ///< m/s
+    double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
+    double timeToSleep = 0.5;            ///< s
+    LcpOptions lcp;                      ///< per-island solver options (pivot cap, work budget)
+};
+
+/// Hot per-body state: the only thing the solver writes. 64 bytes.
+struct BodyState2 {
+    Vec2 position;       ///< body origin (m)
+    Rot2 rotation;       ///< cosine/sine of the body angle
+    Vec2 center;         ///< world centre of mass (m)
+    Vec2 velocity;       ///< centre-of-mass velocity (m/s)
+    double angularVelocity = 0.0;  ///< rad/s
+    double pad = 0.0;    ///< keeps the struct free of implicit padding (always 0)
+};
+
+/// Cold per-body data.
+struct BodyInfo2 {
+    BodyType type = BodyType::dynamicBody;
+    double mass = 0.0, invMass = 0.0, inertia = 0.0, invInertia = 0.0;  ///< kg, 1/kg, kg m^2, 1/(kg m^2)
+    Vec2 localCenter;                  ///< centre of mass in the body frame (m)
+    std::vector<Shape2> shapes;        ///< in body-frame coordinates
+    double sleepTime = 0.0;            ///< s spent below the sleep tolerances
+    bool awake = true;
+};
+
+/// A contact point after the step (for events, drawing and tests).
+struct ContactPoint2 {
+    BodyId a, b;               ///< the normal points away from b towards a
+    Vec2 point, normal;
+    double separation = 0.0;   ///< m, negative when overlapping
+    double normalImpulse = 0.0, tangentImpulse = 0.0;  ///< N s (tangent along perp(normal))
+    std::uint32_t featureId = 0;
+};
+
+/// Two bodies started (begin) or stopped (end) touching this step.
+struct ContactEvent2 {
+    BodyId a, b;
+};
+
+/// What the last step did.
+struct StepStats2 {
+    int islands = 0, awakeIslands = 0, contacts = 0;
+    int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
+    std::uint64_t work = 0;
+    double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
+    int failedIslands = 0;            ///< islands whose LCP did not solve (their contacts got no impulse)
+    double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
+};
+
+class World2 {
+public:
+    explicit World2(const WorldDef2& def = {});
+
+    /// Creates a body with its shapes (body-frame coordinates). Returns a null id and an error message when the
+    /// definition is invalid (non-finite values, a dynamic body without mass, too many bodies); the world is
+    /// unchanged then.
+    BodyId createBody(const BodyDef2& def, const std::vector<Shape2>& shapes, std::string* error = nullptr);
+    /// Removes a body; false for a stale or null id. Its contacts end (end events next step).
+    bool destroyBody(BodyId id);
+
+    /// Advances by one step of 1/hz seconds.
+    void step();
+
+    int bodyCount() const { return mBodies.size(); }
+    bool valid(BodyId id) const { return mBodies.valid(id); }
+    /// Body state; nullptr for an invalid id.
+    const BodyState2* state(BodyId id) const;
+    const BodyInfo2* info(BodyId id) const;
+    /// Body angle (rad) from its rotation, through the deterministic atan2.
+    double angle(BodyId id) const;
+    /// Sets the velocity of a body (wakes it).
+    bool setVelocity(BodyId id, Vec2 v, double w);
+    /// Adds an impulse (N s) at a world point (wakes the body).
+    bool applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint);
+    void setGravity(Vec2 g) { mDef.gravity = g; }
+    const WorldDef2& def() const { return mDef; }
+
+    /// Body ids in dense order (the order every loop of the step uses).
+    std::vector<BodyId> bodyIds() const;
+    const std::vector<ContactPoint2>& contacts() const { return mContactPoints; }
+    const std::vector<ContactEvent2>& beginEvents() const { return mBegin; }
+    const std::vector<ContactEvent2>& endEvents() const { return mEnd; }
+    const StepStats2& stats() const { return mStats; }
+    std::uint64_t stepCount() const { return mStepCount; }
+
+    /// 64-bit hash (XXH3) of a canonical, field-by-field serialisation of the simulation state.
+    std::uint64_t stateHash() const;
+
+    /// One entry of the warm-start cache: a contact (body slots, shape indices, feature id) and which of its LCP
+    /// unknowns were basic at the end of the previous step (bit 0: normal, bits 1-2: tangents, bit 3: slack).
+    struct CacheEntry {
+        std::uint32_t slotA, slotB;
+        std::uint16_t shapeA, shapeB;
+        std::uint32_t feature;
+        std::uint32_t basicMask;
+        bool operator<(const CacheEntry& o) const;
+        bool sameKey(const CacheEntry& o) const;
+    };
+
+private:
+    struct Contact;
+    void collideAll(std::vector<Contact>& out) const;
+    void solveIsland(const std::vector<int>& bodies, const std::vector<int>& contactIdx, std::vector<Contact>& contacts,
+                     std::vector<CacheEntry>& newCache);
+    void updateBodyCenter(BodyState2& s, const BodyInfo2& info) const;
+
+    WorldDef2 mDef;
+    BodyStore<BodyState2, BodyInfo2> mBodies;
+    LemkeSolver mSolver;
+    std::vector<CacheEntry> mCache;          // sorted by key
+    std::vector<ContactPoint2> mContactPoints;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouching;  // sorted (slot pairs) touching last step
+    std::vector<ContactEvent2> mBegin, mEnd;
+    StepStats2 mStats;
+    std::uint64_t mStepCount = 0;
+};
+
+}  // namespace unison

@@ -1,0 +1,38 @@
+// scenes/scene_json.h — reads the scene JSON of DESIGN.md into a World2, and lists the shared example scenes.
+//
+// Owns: the scene file contract ({"dimension", "gravity", "hz", "bodies": [{"type", "position", "angle",
+// "linear_velocity", "angular_velocity", "shapes": [...]}]}) for 2D, with error messages that name the exact key.
+// Invariants: a scene that fails to load leaves no partial world behind (the caller gets an error, not a world).
+#pragma once
+
+#include "world2d.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace unison::scenes {
+
+/// A malformed or invalid scene; what() names the key, e.g. "bodies[3].shapes[0].radius: must be > 0".
+struct SceneError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// A loaded 2D scene: the world and the ids of its bodies in file order.
+struct LoadedScene2 {
+    std::unique_ptr<World2> world;
+    std::vector<BodyId> bodies;
+};
+
+/// Builds a 2D world from scene JSON (`what` names the source in messages). Throws SceneError.
+LoadedScene2 loadScene2(const nlohmann::json& scene, const std::string& what, const WorldDef2& base = {});
+
+/// Reads and parses a scene file. Throws SceneError.
+nlohmann::json readSceneFile(const std::string& path);
+
+/// Folder of the shared example scenes (scenes/*.json in the source tree).
+std::string sceneDir();
+
+}  // namespace unison::scenes
