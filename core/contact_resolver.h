@@ -105,11 +105,22 @@ template <class D>
 Lcp assembleCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                          const ResolverOptions& options = {});
 
+/// The same LCP in compressed rows (bit-identical values): what the resolver and the worlds solve.
+template <class D>
+SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
+                                     const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options = {});
+
 /// Builds the Coulomb-pyramid LCP (normal rows as in assembleCollisionLcp, tangent rows D^T v^+ + lambda,
 /// slack rows mu f_n - sum beta). The matrix is not symmetric. See FrictionLayout for the unknowns.
 template <class D>
 Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                         const ResolverOptions& options, FrictionLayout* outLayout = nullptr);
+
+/// The friction LCP in compressed rows (bit-identical values).
+template <class D>
+SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
+                                    const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
+                                    FrictionLayout* outLayout = nullptr);
 
 /// Tangent directions used by the friction LCP for contact c (k unit vectors, in pairs +t, -t).
 template <class D>

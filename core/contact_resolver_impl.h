@@ -48,7 +48,7 @@ bool isImmovable(const ResolverBody<D>& body) {
 // Adds J M^-1 J^T of `rows` into the top-left block of `lcp` (rows.size() x rows.size()), eq. (20).
 // Bodies are visited in index order and, per body, rows in index order, so every A_ij is summed in a fixed order.
 template <class D>
-void addCoupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<JacobianRow<D>>& rows, Lcp& lcp) {
+void addCoupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<JacobianRow<D>>& rows, LcpTriplets& lcp) {
     // Rows touching each body: (row, slot) pairs, built in row order.
     std::vector<int> start(bodies.size() + 1, 0);
     for (const auto& r : rows) {
@@ -79,7 +79,7 @@ void addCoupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<J
                 const JacobianRow<D>& rj = rows[std::size_t(entryRow[std::size_t(q)])];
                 const int sj = entrySlot[std::size_t(q)];
                 const double term = body.invMass * D::dot(ri.lin[si], rj.lin[sj]) + D::angDot(invIri, rj.ang[sj]);
-                lcp.at(entryRow[std::size_t(p)], entryRow[std::size_t(q)]) += term;
+                lcp.add(entryRow[std::size_t(p)], entryRow[std::size_t(q)], term);
             }
         }
     }
@@ -155,18 +155,34 @@ std::string validate(const std::vector<ResolverBody<D>>& bodies, const std::vect
     return {};
 }
 
+namespace detail {
+
+template <class D>
+LcpTriplets buildCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                              const ResolverOptions& options) {
+    const int n = int(contacts.size());
+    LcpTriplets lcp(n);
+    std::vector<JacobianRow<D>> rows;
+    rows.reserve(std::size_t(n));
+    for (const auto& c : contacts) rows.push_back(makeRow(bodies, c, c.normal));
+    addCoupling(bodies, rows, lcp);  // eq. (20)
+    for (int i = 0; i < n; ++i)
+        lcp.b[std::size_t(i)] = normalRhs(bodies, contacts[std::size_t(i)], options.restitutionThreshold);  // eq. (19)
+    return lcp;
+}
+
+}  // namespace detail
+
 template <class D>
 Lcp assembleCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                          const ResolverOptions& options) {
-    const int n = int(contacts.size());
-    Lcp lcp(n);
-    std::vector<detail::JacobianRow<D>> rows;
-    rows.reserve(std::size_t(n));
-    for (const auto& c : contacts) rows.push_back(detail::makeRow(bodies, c, c.normal));
-    detail::addCoupling(bodies, rows, lcp);  // eq. (20)
-    for (int i = 0; i < n; ++i)
-        lcp.b[std::size_t(i)] = detail::normalRhs(bodies, contacts[std::size_t(i)], options.restitutionThreshold);  // eq. (19)
-    return lcp;
+    return detail::buildCollisionLcp(bodies, contacts, options).toDense();
+}
+
+template <class D>
+SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
+                                     const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options) {
+    return detail::buildCollisionLcp(bodies, contacts, options).toSparse();
 }
 
 template <class D>
@@ -178,38 +194,55 @@ std::vector<typename D::Vec> frictionDirections(const ContactNode<D>& c, int k) 
     return dirs;
 }
 
+namespace detail {
+
 template <class D>
-Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
-                        const ResolverOptions& options, FrictionLayout* outLayout) {
+LcpTriplets buildFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                             const ResolverOptions& options, FrictionLayout* outLayout) {
     FrictionLayout layout;
     layout.contacts = int(contacts.size());
     layout.directions = D::frictionDirectionCount(options.frictionDirections);
     const int nc = layout.contacts;
     const int k = layout.directions;
-    Lcp lcp(layout.size());
+    LcpTriplets lcp(layout.size());
     // Normal rows first, then the tangent rows of contact 0, contact 1, ...: J = [N ; D].
-    std::vector<detail::JacobianRow<D>> rows;
+    std::vector<JacobianRow<D>> rows;
     rows.reserve(std::size_t(nc * (k + 1)));
-    for (const auto& c : contacts) rows.push_back(detail::makeRow(bodies, c, c.normal));
+    for (const auto& c : contacts) rows.push_back(makeRow(bodies, c, c.normal));
     for (const auto& c : contacts) {
-        for (const auto& t : frictionDirections(c, k)) rows.push_back(detail::makeRow(bodies, c, t));
+        for (const auto& t : frictionDirections(c, k)) rows.push_back(makeRow(bodies, c, t));
     }
-    detail::addCoupling(bodies, rows, lcp);
+    addCoupling(bodies, rows, lcp);
     for (int c = 0; c < nc; ++c) {
         const ContactNode<D>& node = contacts[std::size_t(c)];
-        lcp.b[std::size_t(c)] = detail::normalRhs(bodies, node, options.restitutionThreshold);
+        lcp.b[std::size_t(c)] = normalRhs(bodies, node, options.restitutionThreshold);
         const auto dirs = frictionDirections(node, k);
         const int lambda = layout.slackOffset() + c;
         for (int m = 0; m < k; ++m) {
             const int t = layout.tangentOffset() + c * k + m;
-            lcp.b[std::size_t(t)] = detail::relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
-            lcp.at(t, lambda) = 1.0;   // E: w_t = D^T v^+ + lambda e >= 0
-            lcp.at(lambda, t) = -1.0;  // -E^T
+            lcp.b[std::size_t(t)] = relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
+            lcp.add(t, lambda, 1.0);   // E: w_t = D^T v^+ + lambda e >= 0
+            lcp.add(lambda, t, -1.0);  // -E^T
         }
-        lcp.at(lambda, c) = node.friction;  // w_lambda = mu f_n - sum beta >= 0 (Coulomb pyramid)
+        lcp.add(lambda, c, node.friction);  // w_lambda = mu f_n - sum beta >= 0 (Coulomb pyramid)
     }
     if (outLayout) *outLayout = layout;
     return lcp;
+}
+
+}  // namespace detail
+
+template <class D>
+Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                        const ResolverOptions& options, FrictionLayout* outLayout) {
+    return detail::buildFrictionLcp(bodies, contacts, options, outLayout).toDense();
+}
+
+template <class D>
+SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
+                                    const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
+                                    FrictionLayout* outLayout) {
+    return detail::buildFrictionLcp(bodies, contacts, options, outLayout).toSparse();
 }
 
 template <class D>
@@ -236,11 +269,11 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
     Resolution out;
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
-    const Lcp lcp = assembleCollisionLcp(ioBodies, contacts, options);
+    const SparseLcp lcp = assembleCollisionLcpSparse(ioBodies, contacts, options);
     if (lcp.n == 1) {
         // One point: one linear equation in one unknown (end of the paper's section 5), f = max(0, -b / A).
         out.fastPath = true;
-        const double a = lcp.A[0];
+        const double a = lcp.vals.empty() ? 0.0 : lcp.vals[0];
         const double b = lcp.b[0];
         if (b >= 0.0) {
             out.impulses = {0.0};
@@ -272,7 +305,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
     FrictionLayout layout;
-    const Lcp lcp = assembleFrictionLcp(ioBodies, contacts, options, &layout);
+    const SparseLcp lcp = assembleFrictionLcpSparse(ioBodies, contacts, options, &layout);
     LcpResult r = solver.solve(lcp, options.lcp);
     detail::takeSolveReport(r, out);
     if (r.status != LcpStatus::solved) return out;
@@ -304,6 +337,11 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
                                          const ResolverOptions&);                                                 \
     template Lcp assembleFrictionLcp<D>(const std::vector<ResolverBody<D>>&, const std::vector<ContactNode<D>>&,  \
                                         const ResolverOptions&, FrictionLayout*);                                 \
+    template SparseLcp assembleCollisionLcpSparse<D>(const std::vector<ResolverBody<D>>&,                         \
+                                                     const std::vector<ContactNode<D>>&, const ResolverOptions&); \
+    template SparseLcp assembleFrictionLcpSparse<D>(const std::vector<ResolverBody<D>>&,                          \
+                                                    const std::vector<ContactNode<D>>&, const ResolverOptions&,   \
+                                                    FrictionLayout*);                                             \
     template std::vector<D::Vec> frictionDirections<D>(const ContactNode<D>&, int);                               \
     template void applyImpulses<D>(std::vector<ResolverBody<D>>&, const std::vector<ContactNode<D>>&,             \
                                    const std::vector<double>&, const std::vector<D::Vec>*);                       \

@@ -81,6 +81,7 @@ struct LemkeSolver::Workspace {
     // the eps coefficient of every basic value, updated by the same pivots. Ratio ties (contact LCPs are full of
     // them: every resting contact has b_i = 0) are broken by these coefficients first.
     std::vector<double> p;            // (n) perturbation direction
+    std::vector<double> bPerturbed;   // (n) b + delta max|b| p, the right-hand side pivoted on
     std::vector<double> zval2;        // (cap)
     std::vector<double> wval2;        // (n)
     std::vector<double> dy, dw, vrow, tmp;
@@ -89,6 +90,28 @@ struct LemkeSolver::Workspace {
     double aMax = 0.0, bMax = 0.0;  // aMax also covers the covering vector d
 
     double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
+
+    /// Makes room for a block of `size` (the row stride grows geometrically up to n + 1; live rows are moved).
+    /// Only the block that is actually used is ever allocated: a warm start that needs no pivot allocates none.
+    void reserveBlock(int size) {
+        if (size <= cap && Binv != nullptr) return;
+        const int newCap = std::min(n + 1, std::max(size, 2 * cap));
+        const std::size_t need = std::size_t(newCap) * std::size_t(newCap);
+        if (binvStore.size() < need) {
+            std::vector<double> grown(need);
+            for (int q = 0; q < m; ++q) std::copy_n(row(q), m, grown.data() + std::size_t(q) * std::size_t(newCap));
+            binvStore.swap(grown);
+        } else {
+            // Same storage, wider stride: move rows from the last to the first so nothing is overwritten.
+            for (int q = m - 1; q >= 0; --q) {
+                std::copy_backward(binvStore.data() + std::size_t(q) * std::size_t(cap),
+                                   binvStore.data() + std::size_t(q) * std::size_t(cap) + std::size_t(m),
+                                   binvStore.data() + std::size_t(q) * std::size_t(newCap) + std::size_t(m));
+            }
+        }
+        Binv = binvStore.data();
+        cap = newCap;
+    }
 
     /// One pass over a dense row-major A: its nonzeros by rows, the largest |A_ij|, and the first non-finite
     /// entry (returned as its flat index, or -1).
@@ -198,6 +221,7 @@ struct LemkeSolver::Workspace {
 
     /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
     bool refactor() {
+        reserveBlock(m);
         const std::size_t mm = std::size_t(m);
         std::vector<double> M(mm * mm, 0.0);
         double scale = 0.0;
@@ -425,6 +449,43 @@ LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options
     return run(ws, problem.b.data(), options);
 }
 
+Lcp LcpTriplets::toDense() const {
+    Lcp out(n);
+    out.b = b;
+    for (std::size_t e = 0; e < vals.size(); ++e) out.at(rows[e], cols[e]) += vals[e];
+    return out;
+}
+
+SparseLcp LcpTriplets::toSparse() const {
+    // Counting sort by row (stable), then a stable sort by column inside each row, then sum runs of equal (i, j)
+    // in entry order: the same additions, in the same order, as toDense().
+    SparseLcp out;
+    out.n = n;
+    out.b = b;
+    std::vector<int> start(std::size_t(n) + 1, 0);
+    for (int i : rows) ++start[std::size_t(i) + 1];
+    for (int i = 0; i < n; ++i) start[std::size_t(i) + 1] += start[std::size_t(i)];
+    std::vector<int> order(vals.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t e = 0; e < vals.size(); ++e) order[std::size_t(fill[std::size_t(rows[e])]++)] = int(e);
+    out.rowStart.assign(std::size_t(n) + 1, 0);
+    for (int i = 0; i < n; ++i) {
+        auto first = order.begin() + start[std::size_t(i)], last = order.begin() + start[std::size_t(i) + 1];
+        std::stable_sort(first, last, [&](int x, int y) { return cols[std::size_t(x)] < cols[std::size_t(y)]; });
+        for (auto it = first; it != last;) {
+            const int j = cols[std::size_t(*it)];
+            double sum = 0.0;
+            for (; it != last && cols[std::size_t(*it)] == j; ++it) sum += vals[std::size_t(*it)];
+            if (sum != 0.0) {
+                out.cols.push_back(j);
+                out.vals.push_back(sum);
+            }
+        }
+        out.rowStart[std::size_t(i) + 1] = int(out.cols.size());
+    }
+    return out;
+}
+
 SparseLcp toSparse(const Lcp& lcp) {
     SparseLcp out;
     out.n = lcp.n;
@@ -446,7 +507,6 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     LcpResult result;
     const int n = ws.n;
     const std::size_t nn = std::size_t(n);
-    ws.cap = n + 1;
     ws.b = b;
     ws.aMax = ws.aMaxA;
     ws.bMax = 0.0;
@@ -472,14 +532,13 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     };
     if (n == 0) return finishWith(LcpStatus::solved, nullptr);
 
-    if (ws.binvStore.size() < std::size_t(ws.cap) * std::size_t(ws.cap))
-        ws.binvStore.resize(std::size_t(ws.cap) * std::size_t(ws.cap));
-    ws.Binv = ws.binvStore.data();
-    ws.rowIdx.assign(std::size_t(ws.cap), -1);
-    ws.colVar.assign(std::size_t(ws.cap), -1);
+    ws.cap = 0;
+    ws.reserveBlock(std::min(n + 1, 64));
+    ws.rowIdx.assign(nn + 1, -1);
+    ws.colVar.assign(nn + 1, -1);
     ws.posRow.assign(nn, -1);
     ws.posCol.assign(nn + 1, -1);
-    ws.zval.assign(std::size_t(ws.cap), 0.0);
+    ws.zval.assign(nn + 1, 0.0);
     ws.wval.assign(b, b + n);
     // p_i = 1 + frac((i + 1) * golden ratio): positive, pairwise distinct, and generic enough that no ratio tie of
     // the unperturbed problem survives in the eps coefficients (the classical lexicographic rule backs it up).
@@ -488,12 +547,12 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         const double t = double(i + 1) * 0.6180339887498949;
         ws.p[i] = 1.0 + (t - std::floor(t));
     }
-    ws.zval2.assign(std::size_t(ws.cap), 0.0);
+    ws.zval2.assign(nn + 1, 0.0);
     ws.wval2 = ws.p;
-    ws.dy.assign(std::size_t(ws.cap), 0.0);
+    ws.dy.assign(nn + 1, 0.0);
     ws.dw.assign(nn, 0.0);
-    ws.vrow.assign(std::size_t(ws.cap), 0.0);
-    ws.tmp.assign(std::size_t(ws.cap), 0.0);
+    ws.vrow.assign(nn + 1, 0.0);
+    ws.tmp.assign(nn + 1, 0.0);
     ws.d.assign(nn, 1.0);
     ws.aMax = std::max(ws.aMax, 1.0);  // d = 1 is part of the column space
 
@@ -547,6 +606,13 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             ws.tmp[std::size_t(q)] = s;
         }
         for (int q = 0; q < ws.m; ++q) result.z[std::size_t(ws.colVar[std::size_t(q)])] -= ws.tmp[std::size_t(q)];
+        // Degenerate basic z's come out as +-1e-17: an impulse must never be negative, so rounding-level negatives
+        // become exact zeros (larger ones stay and fail the residual check below).
+        double zMax = 0.0;
+        for (double z : result.z) zMax = std::max(zMax, std::fabs(z));
+        for (double& z : result.z) {
+            if (z < 0.0 && z >= -1e-12 * zMax) z = 0.0;
+        }
         recomputeW();
         result.basis.clear();
         for (int q = 0; q < ws.m; ++q) result.basis.push_back(ws.colVar[std::size_t(q)]);
@@ -573,6 +639,23 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         for (int q = 0; q < ws.m && feasible; ++q) feasible = ws.zval[std::size_t(q)] >= -zeroY;
         for (int i = 0; i < n && feasible; ++i) feasible = ws.posRow[std::size_t(i)] >= 0 || ws.wval[std::size_t(i)] >= -zeroW;
         if (feasible) return assembleSolution();
+    }
+
+    // Pivot on b + delta max|b| p instead of b (p_i in [1, 2), the generic vector of the tie rule). Settled contact
+    // scenes are massively degenerate (b_i = 0 on every resting contact; friction rows come in exact +t/-t pairs),
+    // and in floating point even a sound tie rule can cycle there. A real, if tiny, perturbation makes the ties
+    // real differences. Raising b never makes a feasible problem infeasible (z* stays feasible). The answer is then
+    // recomputed from the final basis with the true b (assembleSolution), and checked like every answer.
+    const bool perturbed = options.degeneracyPerturbation > 0.0;
+    if (perturbed) {
+        ws.bPerturbed.resize(nn);
+        for (std::size_t i = 0; i < nn; ++i) ws.bPerturbed[i] = b[i] + options.degeneracyPerturbation * ws.bMax * ws.p[i];
+        ws.b = ws.bPerturbed.data();
+        if (ws.m > 0) {
+            ws.recomputeValues();
+        } else {
+            ws.wval.assign(ws.b, ws.b + n);
+        }
     }
 
     if (warm) {
@@ -729,6 +812,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         }
 
         // Basis exchange: four kinds of block update, each a rank-one correction of Binv.
+        if (enterIsColumn && !leave.isColumn) ws.reserveBlock(m + 1);
         const int cap = ws.cap;
         double* const __restrict Bi = ws.Binv;
         if (enterIsColumn && !leave.isColumn) {
@@ -830,7 +914,21 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         ++sinceRefactor;
         startStep = false;
 
-        if (leave.isColumn && leave.var == n) return assembleSolution();  // z0 left: complementary basis
+        if (leave.isColumn && leave.var == n) {  // z0 left: complementary basis
+            assembleSolution();
+            if (result.status == LcpStatus::numerical_failure && perturbed) {
+                // The perturbed problem's basis is not exactly right for the true b: continue from it unperturbed.
+                LcpOptions exact = options;
+                exact.degeneracyPerturbation = 0.0;
+                const std::vector<int> basis = result.basis;
+                exact.warmBasis = &basis;
+                LcpResult r = run(ws, b, exact);
+                r.pivots += result.pivots;
+                r.work += result.work;
+                return r;
+            }
+            return result;
+        }
         // The complement of the leaving variable enters next.
         enterVar = leave.var;
         enterIsColumn = !leave.isColumn;

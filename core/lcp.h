@@ -45,6 +45,26 @@ struct SparseLcp {
 /// The nonzeros of a dense LCP in compressed rows.
 SparseLcp toSparse(const Lcp& lcp);
 
+/// An LCP under assembly: entries (i, j, v) in the order they were added; entries with the same (i, j) are summed
+/// in that order, so the dense and the sparse result hold bit-identical values.
+struct LcpTriplets {
+    int n = 0;
+    std::vector<int> rows, cols;  ///< (entries)
+    std::vector<double> vals;     ///< (entries)
+    std::vector<double> b;        ///< (n)
+
+    explicit LcpTriplets(int size = 0) : n(size), b(std::size_t(size), 0.0) {}
+    void add(int i, int j, double v) {
+        rows.push_back(i);
+        cols.push_back(j);
+        vals.push_back(v);
+    }
+    /// Dense form (n x n).
+    Lcp toDense() const;
+    /// Compressed rows; sums that are exactly zero are dropped, as a dense scan would skip them.
+    SparseLcp toSparse() const;
+};
+
 /// How a solve ended. Only `solved` carries a usable z.
 enum class LcpStatus {
     solved,            ///< z0 left the basis and the residual check passed
@@ -68,6 +88,9 @@ struct LcpOptions {
     double pivotTolerance = 1e-11;
     /// A solve is `solved` when max_i |min(z_i, w_i)| <= residualTolerance * max(max|A_ij|, max|b_i|).
     double residualTolerance = 1e-9;
+    /// Degenerate problems are pivoted on b + degeneracyPerturbation * max|b| * p (p_i in [1, 2), fixed), then the
+    /// answer is recomputed from the final basis with the true b and checked. 0 pivots on b itself.
+    double degeneracyPerturbation = 1e-6;
     /// Optional warm start: the indices i whose z_i are guessed to be basic (positive) at the solution, e.g.
     /// the previous step's basis. Invalid or singular guesses fall back to a cold start; never an error.
     const std::vector<int>* warmBasis = nullptr;

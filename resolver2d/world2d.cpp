@@ -246,12 +246,16 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     options.frictionDirections = k;
     options.lcp = mDef.lcp;
     options.lcp.warmBasis = warm.empty() ? nullptr : &warm;
+    // A frame must not stall: a healthy path takes about n/2 pivots, so 2n + 100 bounds a bad one (then the
+    // frictionless fallback below runs). WorldDef2::lcp.maxPivots overrides it.
+    if (options.lcp.maxPivots <= 0) options.lcp.maxPivots = 2 * 4 * nc + 100;
     Resolution r = resolveWithFriction(rb, nodes, options, mSolver);
     if (r.status != LcpStatus::solved) {
         // Keep the island from falling through: the frictionless LCP always has a solution for approaching
         // contacts between bodies that can move.
         ++mStats.failedIslands;
         options.lcp.warmBasis = nullptr;
+        options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 2 * nc + 100;
         r = resolveCollisions(rb, nodes, options, mSolver);
     }
     mStats.pivots += r.pivots;

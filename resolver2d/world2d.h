@@ -46,7 +46,7 @@ struct WorldDef2 {
     double linearSleepTolerance = 0.01;  ///< m/s
     double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
     double timeToSleep = 0.5;            ///< s
-    LcpOptions lcp;                      ///< per-island solver options (pivot cap, work budget)
+    LcpOptions lcp;                      ///< per-island solver options; maxPivots 0 = 2n + 100 per island LCP
 };
 
 /// Hot per-body state: the only thing the solver writes. 64 bytes.
@@ -89,7 +89,7 @@ struct StepStats2 {
     int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
     std::uint64_t work = 0;
     double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
-    int failedIslands = 0;            ///< islands whose LCP did not solve (their contacts got no impulse)
+    int failedIslands = 0;            ///< islands whose friction LCP did not solve (the frictionless LCP was used)
     double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
 };
 

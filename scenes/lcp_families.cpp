@@ -100,17 +100,18 @@ LcpCase murty(int n) {
     requirePositive(n, "murty size");
     // Murty (1978), "Computational complexity of complementary pivot methods": M lower triangular with 1 on the
     // diagonal and 2 below, q = -e. With q = -e the very first ratio test is an n-way tie, and which path Lemke
-    // takes depends on its tie rule (the classical lexicographic rule walks all 2^n bases). b_i = -1 + 0.01 2^-(i+1)
+    // takes depends on its tie rule (the classical lexicographic rule walks all 2^n bases). b_i = -1 + 0.25 2^-(i+1)
     // resolves that tie exactly as the lexicographic rule does, so every correct Lemke now walks the same forced,
     // non-degenerate path of 2^n pivots (counting the one where z0 enters). The solution is z = (-b_0, 0, ..., 0):
-    // w_i = 2 z_0 + b_i > 0 for i > 0.
+    // w_i = 2 z_0 + b_i > 0 for i > 0. The steps of 0.25 2^-(i+1) stay above the solver's degeneracy perturbation
+    // (1e-6 max|b|) up to n = 16, so the perturbation does not reorder the path.
     LcpCase out;
     out.name = sizeName("murty", n);
     out.lcp = Lcp(n);
     for (int i = 0; i < n; ++i) {
         out.lcp.at(i, i) = 1.0;
         for (int j = 0; j < i; ++j) out.lcp.at(i, j) = 2.0;
-        out.lcp.b[std::size_t(i)] = -1.0 + 0.01 * std::ldexp(1.0, -(i + 1));
+        out.lcp.b[std::size_t(i)] = -1.0 + 0.25 * std::ldexp(1.0, -(i + 1));
     }
     out.expected = "solved";
     out.expectedPivots = pow2OrUnknown(n);

@@ -49,7 +49,7 @@ constexpr double kSettledFallSpeed = 9.8 / 60.0;
 
 // ---- Pure matrix families ----------------------------------------------------------------------------------
 
-/// Murty's (1978) matrix: A_ii = 1, A_ij = 2 for j < i (lower triangular), A_ij = 0 above; b_i = -1 + 0.01 2^-(i+1),
+/// Murty's (1978) matrix: A_ii = 1, A_ij = 2 for j < i (lower triangular), A_ij = 0 above; b_i = -1 + 0.25 2^-(i+1),
 /// i.e. Murty's b = -1 with its n-way first tie resolved the way the lexicographic rule resolves it, so the path
 /// no longer depends on the tie rule. A is a P-matrix; the unique solution is z = (-b_0, 0, ..., 0). Lemke with
 /// covering vector 1 walks 2^n bases: expectedPivots = 2^n counting the pivot where z0 enters (2^n - 1 after it);

@@ -72,12 +72,12 @@ TEST_CASE("lcp: unsolved problems exit 1 with their status") {
     const Run r = unison("lcp " + f);
     CHECK(r.exitCode == 1);
     CHECK(nlohmann::json::parse(r.out)["status"] == "infeasible");
-    // Murty's matrix n = 8 (b_i = -1 + 0.01 2^-(i+1), see scenes::murty) needs 256 pivots: a cap of 10 stops it.
+    // Murty's matrix n = 8 (b_i = -1 + 0.25 2^-(i+1), see scenes::murty) needs 256 pivots: a cap of 10 stops it.
     std::string murty = "8\n";
     for (int i = 0; i < 8; ++i) {
         for (int j = 0; j < 8; ++j) murty += i == j ? "1 " : (j < i ? "2 " : "0 ");
     }
-    for (int i = 0; i < 8; ++i) murty += std::to_string(-1.0 + 0.01 * std::ldexp(1.0, -(i + 1))) + " ";
+    for (int i = 0; i < 8; ++i) murty += std::to_string(-1.0 + 0.25 * std::ldexp(1.0, -(i + 1))) + " ";
     const std::string g = writeTemp("murty.txt", murty);
     const Run capped = unison("lcp " + g + " --max-pivots 10");
     CHECK(capped.exitCode == 1);
