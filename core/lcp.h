@@ -90,7 +90,7 @@ struct LcpOptions {
     double residualTolerance = 1e-9;
     /// Degenerate problems are pivoted on b + degeneracyPerturbation * max|b| * p (p_i in [1, 2), fixed), then the
     /// answer is recomputed from the final basis with the true b and checked. 0 pivots on b itself.
-    double degeneracyPerturbation = 1e-6;
+    double degeneracyPerturbation = 1e-7;
     /// Optional warm start: the indices i whose z_i are guessed to be basic (positive) at the solution, e.g.
     /// the previous step's basis. Invalid or singular guesses fall back to a cold start; never an error.
     const std::vector<int>* warmBasis = nullptr;

@@ -104,7 +104,7 @@ LcpCase murty(int n) {
     // resolves that tie exactly as the lexicographic rule does, so every correct Lemke now walks the same forced,
     // non-degenerate path of 2^n pivots (counting the one where z0 enters). The solution is z = (-b_0, 0, ..., 0):
     // w_i = 2 z_0 + b_i > 0 for i > 0. The steps of 0.25 2^-(i+1) stay above the solver's degeneracy perturbation
-    // (1e-6 max|b|) up to n = 16, so the perturbation does not reorder the path.
+    // (1e-7 max|b| by default) up to n = 16, so the perturbation does not reorder the path.
     LcpCase out;
     out.name = sizeName("murty", n);
     out.lcp = Lcp(n);

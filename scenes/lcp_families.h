@@ -110,8 +110,9 @@ LcpCase cubeStack3d(int count, bool friction = false);
 
 /// The same LCP with every b_i lowered by a tiny index-dependent amount, delta * max|b| * (1 + frac(0.7548... i)).
 /// Resting contacts (b_i = 0) then approach very slowly instead of not at all, which removes the exact ratio ties
-/// of settled scenes. The benchmark uses it to time a peer that cannot solve the degenerate original.
-LcpCase nondegenerate(LcpCase c, double delta = 1e-6);
+/// of settled scenes. The benchmark uses it to time a peer that cannot solve the degenerate original. The
+/// default delta stays far above the solver's own degeneracy perturbation (1e-7) so the two do not interact.
+LcpCase nondegenerate(LcpCase c, double delta = 1e-4);
 
 /// max_i |min(z_i, w_i)| with w = A z + b recomputed here, divided by max(max|A_ij|, max|b_i|) (1 if both are 0).
 /// Returns +infinity when z has the wrong size or a non-finite entry.
