@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -181,6 +182,42 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
         const Run r = unison("resolve " + f);
         CHECK(r.exitCode == 2);
         CHECK(r.err.find(fragment) != std::string::npos);
+        std::remove(f.c_str());
+    }
+}
+
+TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scenes exit 2") {
+    const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json";
+    const Run r = unison("run " + scene + " --steps 4 --hash-every 2");
+    REQUIRE(r.exitCode == 0);
+    std::vector<nlohmann::json> lines;
+    std::size_t start = 0;
+    for (std::size_t end; (end = r.out.find('\n', start)) != std::string::npos; start = end + 1)
+        lines.push_back(nlohmann::json::parse(r.out.substr(start, end - start)));
+    REQUIRE(lines.size() == 3);
+    CHECK(lines[0]["step"] == 2);
+    CHECK(lines[1]["step"] == 4);
+    CHECK(lines[0]["hash"].get<std::string>().size() == 16);
+    CHECK(lines[2]["bodies"].size() == 5);
+    CHECK(lines[2]["hash"] == lines[1]["hash"]);
+    CHECK(lines[2]["bodies"][0]["linear_velocity"][0].get<double>() == doctest::Approx(-1.2));  // 2 (1 - 2 * 4/5)
+    // Same command, same bytes.
+    CHECK(unison("run " + scene + " --steps 4 --hash-every 2").out == r.out);
+    const std::pair<const char*, const char*> bad[] = {
+        {"{\"dimension\": 2, \"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": -1}]}]}", "radius"},
+        {"{\"dimension\": 2, \"bodies\": [{\"shapes\": [{\"type\": \"polygon\", \"vertices\": [[0,0],[0,1],[1,0]]}]}]}",
+         "counter-clockwise"},
+        {"{\"dimension\": 2, \"bodies\": [{\"type\": \"wobbly\"}]}", "bodies[0].type"},
+        {"{\"dimension\": 2, \"bodies\": [{\"position\": [0, 0]}]}", "positive mass"},
+        {"{\"dimension\": 2, \"hz\": 0, \"bodies\": []}", "hz"},
+        {"[1, 2", "malformed JSON"},
+    };
+    for (const auto& [text, fragment] : bad) {
+        CAPTURE(text);
+        const std::string f = writeTemp("bad_scene.json", text);
+        const Run b = unison("run " + f);
+        CHECK(b.exitCode == 2);
+        CHECK(b.err.find(fragment) != std::string::npos);
         std::remove(f.c_str());
     }
 }
