@@ -198,10 +198,11 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     // Local numbering: the island's dynamic bodies, then every static or kinematic body its contacts touch.
     std::vector<int> local;
     std::vector<Body2> rb;
+    if (mLocalIndex.size() < hot.size()) mLocalIndex.resize(hot.size(), -1);
     auto localOf = [&](int dense) {
-        for (int k = 0; k < int(local.size()); ++k) {
-            if (local[std::size_t(k)] == dense) return k;
-        }
+        const int known = mLocalIndex[std::size_t(dense)];
+        if (known >= 0) return known;
+        mLocalIndex[std::size_t(dense)] = int(local.size());
         local.push_back(dense);
         Body2 b;
         const BodyInfo2& info = cold[std::size_t(dense)];
@@ -241,6 +242,7 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
             if (it->basicMask & 8u) warm.push_back(nc + nc * k + ci);
         }
     }
+    for (int d : local) mLocalIndex[std::size_t(d)] = -1;  // leave the map clean for the next island
     ResolverOptions options;
     options.restitutionThreshold = mDef.restitutionThreshold;
     options.frictionDirections = k;

@@ -157,6 +157,7 @@ private:
     std::vector<ContactPoint2> mContactPoints;
     std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouching;  // sorted (slot pairs) touching last step
     std::vector<ContactEvent2> mBegin, mEnd;
+    std::vector<int> mLocalIndex;            // dense body -> index in the island being solved (-1 outside)
     StepStats2 mStats;
     std::uint64_t mStepCount = 0;
 };
