@@ -85,7 +85,7 @@ struct LcpOptions {
     /// Relative pivot tolerance: a direction entry smaller than this times the largest entry of its kind never
     /// becomes a pivot. Entries below it are treated as exact zeros, which is what keeps degenerate contact
     /// problems (coplanar corners, singular A) on a consistent pivot path.
-    double pivotTolerance = 1e-11;
+    double pivotTolerance = 1e-9;
     /// A solve is `solved` when max_i |min(z_i, w_i)| <= residualTolerance * max(max|A_ij|, max|b_i|).
     double residualTolerance = 1e-9;
     /// Degenerate problems are pivoted on b + degeneracyPerturbation * max|b| * p (p_i in [1, 2), fixed), then the

@@ -257,7 +257,7 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
         // contacts between bodies that can move.
         ++mStats.failedIslands;
         options.lcp.warmBasis = nullptr;
-        options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 2 * nc + 100;
+        options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 10 * nc + 1000;
         r = resolveCollisions(rb, nodes, options, mSolver);
     }
     mStats.pivots += r.pivots;
