@@ -150,18 +150,28 @@ void World2::collideAll(std::vector<Contact>& out) const {
     const auto& cold = mBodies.coldArray();
     struct Proxy {
         int body, shape;
+        double reach;  // how far the shape can move this step (m): dt (|v| + |w| extent)
     };
     std::vector<Proxy> proxies;
     std::vector<Aabb2> boxes;
     std::vector<std::uint8_t> inactive;
     const double margin = mDef.speculativeDistance;
+    const double dt = 1.0 / mDef.hz;
     for (int d = 0; d < int(hot.size()); ++d) {
-        const Transform2 xf{hot[std::size_t(d)].position, hot[std::size_t(d)].rotation};
+        const BodyState2& st = hot[std::size_t(d)];
+        const Transform2 xf{st.position, st.rotation};
         for (int s = 0; s < int(cold[std::size_t(d)].shapes.size()); ++s) {
             Aabb2 box = computeAabb(cold[std::size_t(d)].shapes[std::size_t(s)], xf);
-            box.lower = box.lower - Vec2{margin, margin};
-            box.upper = box.upper + Vec2{margin, margin};
-            proxies.push_back({d, s});
+            // Speculative reach: a contact that can close within this step must already be in this step's LCP,
+            // or fast bodies sink deep before they are seen (and position correction then adds energy).
+            const Vec2 half = 0.5 * (box.upper - box.lower);
+            const Vec2 mid = 0.5 * (box.upper + box.lower);
+            const double extent = length(half) + length(mid - st.center);
+            const double reach = dt * (length(st.velocity) + std::fabs(st.angularVelocity) * extent);
+            const double grow = margin + reach;
+            box.lower = box.lower - Vec2{grow, grow};
+            box.upper = box.upper + Vec2{grow, grow};
+            proxies.push_back({d, s, reach});
             boxes.push_back(box);
             inactive.push_back(cold[std::size_t(d)].type == BodyType::dynamicBody ? 0 : 1);
         }
@@ -174,7 +184,8 @@ void World2::collideAll(std::vector<Contact>& out) const {
         const BodyState2& sb = hot[std::size_t(pb.body)];
         const Shape2& shA = cold[std::size_t(pa.body)].shapes[std::size_t(pa.shape)];
         const Shape2& shB = cold[std::size_t(pb.body)].shapes[std::size_t(pb.shape)];
-        const Manifold2 m = collide(shA, Transform2{sa.position, sa.rotation}, shB, Transform2{sb.position, sb.rotation}, margin);
+        const Manifold2 m = collide(shA, Transform2{sa.position, sa.rotation}, shB, Transform2{sb.position, sb.rotation},
+                                    margin + pa.reach + pb.reach);
         for (int k = 0; k < m.count; ++k) {
             Contact c;
             c.bodyA = pa.body;
@@ -227,8 +238,17 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
         Contact2 node = makeContact<Dim2>(localOf(c.bodyA), localOf(c.bodyB), c.point.point, c.normal, c.restitution,
                                           c.friction);
         const double sep = c.point.separation;
-        node.bias = sep > 0.0 ? -sep / dt
-                              : std::min(mDef.maxCorrectionSpeed, mDef.baumgarte * std::max(0.0, -sep - mDef.linearSlop) / dt);
+        // Position correction only for contacts that will not bounce: on a restitution bounce the push-out
+        // velocity would be added to the rebound and create energy.
+        // A speculative contact that closes within this step and bounces gets plain restitution (it rebounds up to
+        // one step early, and keeps its energy); one that does not close this step only keeps its gap >= 0.
+        const double vrel = relativeNormalVelocity(rb, node);
+        const bool bounces = c.restitution > 0.0 && vrel < -mDef.restitutionThreshold;
+        if (sep > 0.0) {
+            node.bias = bounces && sep + dt * vrel < 0.0 ? 0.0 : -sep / dt;
+        } else {
+            node.bias = bounces ? 0.0 : std::min(mDef.maxCorrectionSpeed, mDef.baumgarte * std::max(0.0, -sep - mDef.linearSlop) / dt);
+        }
         nodes.push_back(node);
         // Warm start: which of this contact's unknowns were basic last step.
         CacheEntry key{mBodies.idAt(c.bodyA).index1, mBodies.idAt(c.bodyB).index1, std::uint16_t(c.shapeA),

@@ -6,6 +6,7 @@
 #include "world2d.h"
 
 #include <cmath>
+#include <vector>
 
 using namespace unison;
 
@@ -72,6 +73,37 @@ TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form")
     CHECK(loaded.world->state(loaded.bodies[0])->velocity.x == doctest::Approx(v * (1.0 - (1.0 + e) * (n - 1.0) / n)).epsilon(1e-9));
     for (int k = 1; k < 5; ++k)
         CHECK(loaded.world->state(loaded.bodies[std::size_t(k)])->velocity.x == doctest::Approx(v * (1.0 + e) / n).epsilon(1e-9));
+}
+
+TEST_CASE("restitution row: rebound apex is e^2 h, up to the one-step early-bounce allowance") {
+    // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact that
+    // closes within the step at its start, so the apex may exceed e^2 h by up to (1 + e) v dt, never more, and
+    // must not fall short of it (beyond 2 % of h). e = 0 must not bounce at all.
+    const auto scene = scenes::readSceneFile(scenes::sceneDir() + "/restitution_row.json");
+    auto loaded = scenes::loadScene2(scene, "restitution_row.json");
+    World2& world = *loaded.world;
+    const double h = 4.5, dt = 1.0 / 60.0, vImpact = std::sqrt(2.0 * 10.0 * h);
+    std::vector<double> apex(8, -1.0), prevVy(8, -1.0);
+    std::vector<int> bounces(8, 0);
+    for (int step = 0; step < 400; ++step) {
+        world.step();
+        for (int k = 1; k < 8; ++k) {
+            const BodyState2* s = world.state(loaded.bodies[std::size_t(k)]);
+            const double vy = s->velocity.y;
+            if (prevVy[std::size_t(k)] < 0.0 && vy > 0.0) ++bounces[std::size_t(k)];
+            if (bounces[std::size_t(k)] == 1 && prevVy[std::size_t(k)] > 0.0 && vy <= 0.0 && apex[std::size_t(k)] < 0.0)
+                apex[std::size_t(k)] = s->position.y;
+            prevVy[std::size_t(k)] = vy;
+        }
+    }
+    CHECK(bounces[1] == 0);
+    for (int k = 2; k < 8; ++k) {
+        const double e = (k - 1) / 6.0;
+        CAPTURE(e);
+        const double rise = apex[std::size_t(k)] - 0.5;
+        CHECK(rise >= e * e * h - 0.02 * h);
+        CHECK(rise <= e * e * h + (1.0 + e) * vImpact * dt);
+    }
 }
 
 TEST_CASE("invalid bodies are rejected with a message and the world is unchanged") {
