@@ -1,0 +1,162 @@
+// bench/box2d_peer.cpp — builds and steps a Box2D 2.4.1 world from scene JSON (see box2d_peer.h).
+//
+// Defaults for missing keys are loadScene2's (density 1, friction 0.6, restitution 0, hz 60, gravity (0, -10),
+// sleep on, restitution threshold 1 m/s), not Box2D's own (its fixture friction defaults to 0.2), so both engines
+// always simulate the same scene.
+#include "box2d_peer.h"
+
+#include <box2d/box2d.h>
+
+#include <cmath>
+
+namespace unison::bench {
+namespace {
+
+using nlohmann::json;
+
+[[noreturn]] void fail(const std::string& path, const std::string& why) { throw Box2dSceneError(path + ": " + why); }
+
+const json* find(const json& obj, const std::string& path, const char* key, bool required) {
+    if (!obj.is_object()) fail(path, "expected an object");
+    const auto it = obj.find(key);
+    if (it == obj.end()) {
+        if (required) fail(path + "." + key, "missing");
+        return nullptr;
+    }
+    return &*it;
+}
+
+double num(const json& v, const std::string& path) {
+    if (!v.is_number()) fail(path, "expected a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(path, "expected a finite number");
+    return x;
+}
+
+double numOr(const json& obj, const std::string& path, const char* key, double fallback) {
+    const json* v = find(obj, path, key, false);
+    return v ? num(*v, path + "." + key) : fallback;
+}
+
+b2Vec2 vec(const json& v, const std::string& path) {
+    if (!v.is_array() || v.size() != 2) fail(path, "expected [x, y]");
+    return b2Vec2(float(num(v[0], path + "[0]")), float(num(v[1], path + "[1]")));
+}
+
+b2Vec2 vecOr(const json& obj, const std::string& path, const char* key, b2Vec2 fallback) {
+    const json* v = find(obj, path, key, false);
+    return v ? vec(*v, path + "." + key) : fallback;
+}
+
+// Creates the fixture of one scene shape on `body`.
+void addFixture(b2Body* body, const json& js, const std::string& path, float restitutionThreshold) {
+    const json* type = find(js, path, "type", true);
+    if (!type->is_string()) fail(path + ".type", "expected a string");
+    const std::string t = type->get<std::string>();
+
+    b2CircleShape circle;
+    b2PolygonShape polygon;
+    b2EdgeShape edge;
+    b2FixtureDef fd;
+    if (t == "circle") {
+        circle.m_p = vecOr(js, path, "center", b2Vec2(0.0f, 0.0f));
+        circle.m_radius = float(num(*find(js, path, "radius", true), path + ".radius"));
+        fd.shape = &circle;
+    } else if (t == "box") {
+        const b2Vec2 h = vec(*find(js, path, "half_extents", true), path + ".half_extents");
+        polygon.SetAsBox(h.x, h.y, vecOr(js, path, "center", b2Vec2(0.0f, 0.0f)), float(numOr(js, path, "angle", 0.0)));
+        fd.shape = &polygon;
+    } else if (t == "polygon") {
+        const json* vs = find(js, path, "vertices", true);
+        if (!vs->is_array() || vs->size() < 3 || vs->size() > b2_maxPolygonVertices)
+            fail(path + ".vertices", "expected 3 to 8 points");
+        b2Vec2 points[b2_maxPolygonVertices];
+        for (std::size_t i = 0; i < vs->size(); ++i) points[i] = vec((*vs)[i], path + ".vertices[" + std::to_string(i) + "]");
+        polygon.Set(points, int32(vs->size()));
+        fd.shape = &polygon;
+    } else if (t == "segment") {
+        const json* ps = find(js, path, "points", true);
+        if (!ps->is_array() || ps->size() != 2) fail(path + ".points", "expected two points");
+        edge.SetTwoSided(vec((*ps)[0], path + ".points[0]"), vec((*ps)[1], path + ".points[1]"));
+        fd.shape = &edge;
+    } else {
+        fail(path + ".type", "unknown 2D shape type \"" + t + "\" (circle, box, polygon, segment)");
+    }
+    fd.density = float(numOr(js, path, "density", 1.0));
+    fd.friction = float(numOr(js, path, "friction", 0.6));
+    fd.restitution = float(numOr(js, path, "restitution", 0.0));
+    fd.restitutionThreshold = restitutionThreshold;
+    body->CreateFixture(&fd);
+}
+
+}  // namespace
+
+Box2dPeer::Box2dPeer(const json& scene, const std::string& what, int velocityIterations, int positionIterations)
+    : mVelocityIterations(velocityIterations), mPositionIterations(positionIterations) {
+    const json* dim = find(scene, what, "dimension", true);
+    if (!dim->is_number_integer() || dim->get<int>() != 2) fail(what + ".dimension", "the Box2D peer takes 2D scenes only");
+    mHz = numOr(scene, what, "hz", 60.0);
+    if (!(mHz > 0.0)) fail(what + ".hz", "must be > 0");
+    const float threshold = float(numOr(scene, what, "restitution_threshold", 1.0));
+    bool sleep = true;
+    if (const json* sl = find(scene, what, "sleep", false)) {
+        if (!sl->is_boolean()) fail(what + ".sleep", "expected true or false");
+        sleep = sl->get<bool>();
+    }
+    mWorld = std::make_unique<b2World>(vecOr(scene, what, "gravity", b2Vec2(0.0f, -10.0f)));
+    mWorld->SetAllowSleeping(sleep);
+
+    const json* bodies = find(scene, what, "bodies", true);
+    if (!bodies->is_array()) fail(what + ".bodies", "expected an array");
+    mBodies.reserve(bodies->size());
+    for (std::size_t i = 0; i < bodies->size(); ++i) {
+        const std::string path = what + ".bodies[" + std::to_string(i) + "]";
+        const json& jb = (*bodies)[i];
+        b2BodyDef bd;
+        std::string type = "dynamic";
+        if (const json* t = find(jb, path, "type", false)) {
+            if (!t->is_string()) fail(path + ".type", "expected a string");
+            type = t->get<std::string>();
+        }
+        if (type == "static") bd.type = b2_staticBody;
+        else if (type == "kinematic") bd.type = b2_kinematicBody;
+        else if (type == "dynamic") bd.type = b2_dynamicBody;
+        else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
+        bd.position = vecOr(jb, path, "position", b2Vec2(0.0f, 0.0f));
+        bd.angle = float(numOr(jb, path, "angle", 0.0));
+        bd.linearVelocity = vecOr(jb, path, "linear_velocity", b2Vec2(0.0f, 0.0f));
+        bd.angularVelocity = float(numOr(jb, path, "angular_velocity", 0.0));
+        b2Body* body = mWorld->CreateBody(&bd);
+        if (const json* js = find(jb, path, "shapes", false)) {
+            if (!js->is_array()) fail(path + ".shapes", "expected an array");
+            for (std::size_t k = 0; k < js->size(); ++k)
+                addFixture(body, (*js)[k], path + ".shapes[" + std::to_string(k) + "]", threshold);
+        }
+        mBodies.push_back(body);
+    }
+}
+
+Box2dPeer::~Box2dPeer() = default;
+
+void Box2dPeer::step() {
+    mWorld->Step(float(1.0 / mHz), mVelocityIterations, mPositionIterations);
+    ++mSteps;
+}
+
+Vec2 Box2dPeer::position(int index) const {
+    const b2Vec2 p = body(index)->GetPosition();
+    return {double(p.x), double(p.y)};
+}
+
+double Box2dPeer::angle(int index) const { return double(body(index)->GetAngle()); }
+
+Vec2 Box2dPeer::linearVelocity(int index) const {
+    const b2Vec2 v = body(index)->GetLinearVelocity();
+    return {double(v.x), double(v.y)};
+}
+
+double Box2dPeer::angularVelocity(int index) const { return double(body(index)->GetAngularVelocity()); }
+
+bool Box2dPeer::awake(int index) const { return body(index)->IsAwake(); }
+
+}  // namespace unison::bench
