@@ -132,6 +132,10 @@ Box2dPeer::Box2dPeer(const json& scene, const std::string& what, int velocityIte
             for (std::size_t k = 0; k < js->size(); ++k)
                 addFixture(body, (*js)[k], path + ".shapes[" + std::to_string(k) + "]", threshold);
         }
+        // The scene's linear_velocity is the centre of mass's (as in Unison's BodyDef2). Box2D reads
+        // b2BodyDef::linearVelocity as the origin's and shifts it by w x (c - origin) when the fixtures move the
+        // centre of mass, so set the centre-of-mass velocity again once the mass is known.
+        if (bd.type != b2_staticBody) body->SetLinearVelocity(bd.linearVelocity);
         mBodies.push_back(body);
     }
 }

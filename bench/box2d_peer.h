@@ -2,7 +2,7 @@
 //
 // Owns: a b2World built from the same scene JSON that scenes::loadScene2 reads (README "Scene format"), and the map
 // from scene body index to b2Body*. The translation is one to one: gravity; bodies (static / kinematic / dynamic,
-// origin, angle, velocities); shapes (circle -> b2CircleShape centred at `center`; box -> SetAsBox(hx, hy, center,
+// origin, angle, centre-of-mass and angular velocity); shapes (circle -> b2CircleShape centred at `center`; box -> SetAsBox(hx, hy, center,
 // angle); polygon -> Set(vertices); segment -> two-sided b2EdgeShape) with their density, friction and restitution;
 // "sleep" -> SetAllowSleeping; "restitution_threshold" (default 1 m/s) -> every fixture's restitutionThreshold
 // (Box2D mixes the per-fixture thresholds with min, so equal values give the scene's threshold). Friction and
@@ -10,7 +10,8 @@
 //
 // Differences that remain, by design of Box2D: it computes in float; polygons and edges carry a 1 cm skin
 // (b2_polygonRadius), so boxes rest about 2 * 0.01 - 0.005 m apart where Unison's rest touching; its solver is
-// sequential impulses (8 velocity, 3 position iterations by default, as in its testbed), not one LCP per island.
+// sequential impulses (8 velocity, 3 position iterations by default, as in its testbed), not one LCP per island;
+// it caps a body's motion per step (b2_maxTranslation 2 m, i.e. 120 m/s at 60 Hz; b2_maxRotation 0.5 pi).
 // Box2D headers are only included by box2d_peer.cpp; this header forward-declares the two types it names.
 #pragma once
 
