@@ -1,0 +1,306 @@
+// core/lcp_workspace.h — private to core/lcp.cpp: the per-solve state of LemkeSolver (the compact basis block,
+// its explicit inverse, the sparsity pattern of A, basic values and their perturbation coefficients) and the
+// operations on it. Not part of the public API; include it nowhere else.
+#pragma once
+
+#include "lcp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace unison {
+
+namespace lcp_detail {
+
+constexpr double kTiny = 1e-300;
+
+/// A candidate to leave the basis in a ratio test.
+struct Candidate {
+    bool isColumn;  // true: a basic column variable (z_j or z0) at block position `pos`; false: basic w_i, i = pos
+    int pos;
+    double ratio;
+    double ratio2;  // the same ratio for the epsilon coefficient of the perturbed values (tie-breaker)
+    double delta;  // its rate of change as the entering variable grows (< 0 in a min test, > 0 in the start test)
+    int var;       // index for the lowest-index rule: j for z_j, n for z0, i for w_i
+};
+
+}  // namespace lcp_detail
+using lcp_detail::Candidate;
+using lcp_detail::kTiny;
+
+/// All per-solve state. Lives on the stack of solve(); the big buffers are borrowed from the solver object.
+struct LemkeSolver::Workspace {
+    int n = 0;
+    int cap = 0;
+    const double* b = nullptr;
+    std::vector<double> d;  // covering vector (n)
+    // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
+    std::vector<int> colStart, colRow, rowStart, rowCol;
+    std::vector<double> colVal, rowVal;
+    std::vector<double> binvStore;  // storage of Binv, kept between solves (grows, never shrinks)
+    double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
+    int m = 0;
+    std::vector<int> rowIdx, posRow;  // block row p <-> index i (posRow[i] = -1: w_i basic)
+    std::vector<int> colVar, posCol;  // block column q <-> variable (0..n-1: z_j, n: z0); posCol has n + 1 entries
+    std::vector<double> zval;         // (cap) value of the column variable at block position q
+    std::vector<double> wval;         // (n) value of w_i while it is basic
+    // Degeneracy: b is treated as b + eps p for a fixed generic p > 0 and an infinitesimal eps; zval2/wval2 carry
+    // the eps coefficient of every basic value, updated by the same pivots. Ratio ties (contact LCPs are full of
+    // them: every resting contact has b_i = 0) are broken by these coefficients first.
+    std::vector<double> p;            // (n) perturbation direction
+    std::vector<double> bPerturbed;   // (n) b + delta max|b| p, the right-hand side pivoted on
+    std::vector<double> zval2;        // (cap)
+    std::vector<double> wval2;        // (n)
+    std::vector<double> dy, dw, vrow, tmp;
+    std::vector<Candidate> cands, tied;
+    double aMaxA = 0.0;           // max |A_ij|
+    double aMax = 0.0, bMax = 0.0;  // aMax also covers the covering vector d
+
+    double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
+
+    /// Makes room for a block of `size` (the row stride grows geometrically up to n + 1; live rows are moved).
+    /// Only the block that is actually used is ever allocated: a warm start that needs no pivot allocates none.
+    void reserveBlock(int size) {
+        if (size <= cap && Binv != nullptr) return;
+        const int newCap = std::min(n + 1, std::max(size, 2 * cap));
+        const std::size_t need = std::size_t(newCap) * std::size_t(newCap);
+        if (binvStore.size() < need) {
+            std::vector<double> grown(need);
+            for (int q = 0; q < m; ++q) std::copy_n(row(q), m, grown.data() + std::size_t(q) * std::size_t(newCap));
+            binvStore.swap(grown);
+        } else {
+            // Same storage, wider stride: move rows from the last to the first so nothing is overwritten.
+            for (int q = m - 1; q >= 0; --q) {
+                std::copy_backward(binvStore.data() + std::size_t(q) * std::size_t(cap),
+                                   binvStore.data() + std::size_t(q) * std::size_t(cap) + std::size_t(m),
+                                   binvStore.data() + std::size_t(q) * std::size_t(newCap) + std::size_t(m));
+            }
+        }
+        Binv = binvStore.data();
+        cap = newCap;
+    }
+
+    /// One pass over a dense row-major A: its nonzeros by rows, the largest |A_ij|, and the first non-finite
+    /// entry (returned as its flat index, or -1).
+    long long loadDense(const double* A) {
+        rowStart.assign(std::size_t(n) + 1, 0);
+        rowCol.clear();
+        rowVal.clear();
+        aMaxA = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double* Ai = A + std::size_t(i) * std::size_t(n);
+            for (int j = 0; j < n; ++j) {
+                const double v = Ai[j];
+                if (v == 0.0) continue;
+                if (!std::isfinite(v)) return (long long)i * n + j;
+                aMaxA = std::max(aMaxA, std::fabs(v));
+                rowCol.push_back(j);
+                rowVal.push_back(v);
+            }
+            rowStart[std::size_t(i) + 1] = int(rowCol.size());
+        }
+        buildColumns();
+        return -1;
+    }
+
+    /// Copies a compressed-row A; returns an empty string or what is wrong with it.
+    std::string loadSparse(const SparseLcp& lcp) {
+        if (lcp.rowStart.size() != std::size_t(n) + 1 || lcp.rowStart[0] != 0 ||
+            lcp.cols.size() != lcp.vals.size() || std::size_t(lcp.rowStart[std::size_t(n)]) != lcp.cols.size())
+            return "sparse LCP: rowStart must have n + 1 entries from 0 to the number of entries";
+        rowStart = lcp.rowStart;
+        rowCol.clear();
+        rowVal.clear();
+        aMaxA = 0.0;
+        for (int i = 0; i < n; ++i) {
+            if (rowStart[std::size_t(i) + 1] < rowStart[std::size_t(i)]) return "sparse LCP: rowStart must not decrease";
+            for (int k = lcp.rowStart[std::size_t(i)]; k < lcp.rowStart[std::size_t(i) + 1]; ++k) {
+                const int j = lcp.cols[std::size_t(k)];
+                const double v = lcp.vals[std::size_t(k)];
+                if (j < 0 || j >= n) return "sparse LCP: column index out of range in row " + std::to_string(i);
+                if (k > lcp.rowStart[std::size_t(i)] && j <= lcp.cols[std::size_t(k) - 1])
+                    return "sparse LCP: columns of row " + std::to_string(i) + " must be strictly increasing";
+                if (!std::isfinite(v))
+                    return "A has a non-finite entry at (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+                aMaxA = std::max(aMaxA, std::fabs(v));
+                rowCol.push_back(j);
+                rowVal.push_back(v);
+            }
+        }
+        buildColumns();
+        return {};
+    }
+
+    /// The column-major copy of the row pattern (rows ascending within each column).
+    void buildColumns() {
+        colStart.assign(std::size_t(n) + 1, 0);
+        for (int j : rowCol) ++colStart[std::size_t(j) + 1];
+        for (int j = 0; j < n; ++j) colStart[std::size_t(j) + 1] += colStart[std::size_t(j)];
+        colRow.resize(rowCol.size());
+        colVal.resize(rowCol.size());
+        std::vector<int> fill(colStart.begin(), colStart.end() - 1);
+        for (int i = 0; i < n; ++i) {
+            for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+                const int j = rowCol[std::size_t(k)];
+                colRow[std::size_t(fill[std::size_t(j)])] = i;
+                colVal[std::size_t(fill[std::size_t(j)])] = rowVal[std::size_t(k)];
+                ++fill[std::size_t(j)];
+            }
+        }
+    }
+
+    /// out[i] += s * (column `var` of [A | d])[i] for every row i.
+    void addColumn(int var, double s, double* out) const {
+        if (var < n) {
+            for (int k = colStart[std::size_t(var)]; k < colStart[std::size_t(var) + 1]; ++k)
+                out[colRow[std::size_t(k)]] += colVal[std::size_t(k)] * s;
+        } else {
+            for (int i = 0; i < n; ++i) out[i] += d[std::size_t(i)] * s;
+        }
+    }
+
+    /// vrow[p] = sum_q [A | d](i, colVar[q]) * Binv[q][p]: row i of [A | d] restricted to the block columns, times Binv.
+    void rowTimesBinv(int i, double* out) {
+        std::fill(out, out + m, 0.0);
+        for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+            const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
+            if (q < 0) continue;
+            const double c = rowVal[std::size_t(k)];
+            const double* __restrict r = row(q);
+            for (int p = 0; p < m; ++p) out[p] += c * r[p];
+        }
+        const int q0 = posCol[std::size_t(n)];
+        if (q0 >= 0 && d[std::size_t(i)] != 0.0) {
+            const double c = d[std::size_t(i)];
+            const double* __restrict r = row(q0);
+            for (int p = 0; p < m; ++p) out[p] += c * r[p];
+        }
+    }
+
+    /// dw[i] = change of basic w_i per unit of the entering variable, given dy. enteringVar >= 0 adds its column.
+    void computeDw(int enteringVar) {
+        std::fill(dw.begin(), dw.end(), 0.0);
+        for (int q = 0; q < m; ++q) {
+            if (dy[std::size_t(q)] != 0.0) addColumn(colVar[std::size_t(q)], dy[std::size_t(q)], dw.data());
+        }
+        if (enteringVar >= 0) addColumn(enteringVar, 1.0, dw.data());
+    }
+
+    /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
+    bool refactor() {
+        reserveBlock(m);
+        const std::size_t mm = std::size_t(m);
+        std::vector<double> M(mm * mm, 0.0);
+        double scale = 0.0;
+        const int q0 = posCol[std::size_t(n)];
+        for (int p = 0; p < m; ++p) {
+            const int i = rowIdx[std::size_t(p)];
+            for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
+                const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
+                if (q >= 0) M[std::size_t(p) * mm + std::size_t(q)] = rowVal[std::size_t(k)];
+            }
+            if (q0 >= 0) M[std::size_t(p) * mm + std::size_t(q0)] = d[std::size_t(i)];
+            for (int q = 0; q < m; ++q) scale = std::max(scale, std::fabs(M[std::size_t(p) * mm + std::size_t(q)]));
+        }
+        // Solve M X = I; X (q x p) is Binv. Work on [M | I] row-reduced.
+        std::vector<double> I(mm * mm, 0.0);
+        for (int p = 0; p < m; ++p) I[std::size_t(p) * mm + std::size_t(p)] = 1.0;
+        for (int q = 0; q < m; ++q) {
+            int best = -1;
+            double bestAbs = 0.0;
+            for (int p = q; p < m; ++p) {
+                const double a = std::fabs(M[std::size_t(p) * mm + std::size_t(q)]);
+                if (a > bestAbs) { bestAbs = a; best = p; }
+            }
+            if (best < 0 || bestAbs <= 1e-14 * scale) return false;
+            if (best != q) {
+                for (std::size_t k = 0; k < mm; ++k) {
+                    std::swap(M[std::size_t(best) * mm + k], M[std::size_t(q) * mm + k]);
+                    std::swap(I[std::size_t(best) * mm + k], I[std::size_t(q) * mm + k]);
+                }
+            }
+            const double inv = 1.0 / M[std::size_t(q) * mm + std::size_t(q)];
+            for (std::size_t k = 0; k < mm; ++k) {
+                M[std::size_t(q) * mm + k] *= inv;
+                I[std::size_t(q) * mm + k] *= inv;
+            }
+            for (int p = 0; p < m; ++p) {
+                if (p == q) continue;
+                const double f = M[std::size_t(p) * mm + std::size_t(q)];
+                if (f == 0.0) continue;
+                for (std::size_t k = 0; k < mm; ++k) {
+                    M[std::size_t(p) * mm + k] -= f * M[std::size_t(q) * mm + k];
+                    I[std::size_t(p) * mm + k] -= f * I[std::size_t(q) * mm + k];
+                }
+            }
+        }
+        // Row q of the reduced identity is row q of M^-1 = Binv[q][.].
+        for (int q = 0; q < m; ++q) std::copy_n(&I[std::size_t(q) * mm], mm, row(q));
+        return true;
+    }
+
+    /// Recomputes every basic value from scratch (the entering variable is at zero between pivots).
+    void recomputeValues() {
+        recomputeValues(b, zval, wval);
+        recomputeValues(p.data(), zval2, wval2);
+    }
+    void recomputeValues(const double* rhs, std::vector<double>& zv, std::vector<double>& wv) {
+        for (int q = 0; q < m; ++q) {
+            const double* r = row(q);
+            double s = 0.0;
+            for (int k = 0; k < m; ++k) s += r[k] * rhs[rowIdx[std::size_t(k)]];
+            zv[std::size_t(q)] = -s;
+        }
+        std::vector<double> w(rhs, rhs + n);
+        for (int q = 0; q < m; ++q) addColumn(colVar[std::size_t(q)], zv[std::size_t(q)], w.data());
+        for (int i = 0; i < n; ++i) wv[std::size_t(i)] = posRow[std::size_t(i)] < 0 ? w[std::size_t(i)] : 0.0;
+    }
+
+    /// d(value)/d(b_k) of a candidate: the lexicographic row of B^-1 [b | I].
+    double sensitivity(const Candidate& c, int k, const std::vector<double>& candRow) {
+        const int p = posRow[std::size_t(k)];
+        if (c.isColumn) return p >= 0 ? -row(c.pos)[p] : 0.0;
+        return (k == c.pos ? 1.0 : 0.0) - (p >= 0 ? candRow[std::size_t(p)] : 0.0);
+    }
+
+    /// Breaks a tie among candidates lexicographically (min test: smallest; start test: largest), then by index.
+    int breakTie(std::vector<Candidate>& tied, bool takeMax) {
+        std::vector<std::vector<double>> rows(tied.size());
+        for (std::size_t t = 0; t < tied.size(); ++t) {
+            if (!tied[t].isColumn) {
+                rows[t].resize(std::size_t(m));
+                rowTimesBinv(tied[t].pos, rows[t].data());
+            }
+        }
+        std::vector<std::size_t> alive(tied.size());
+        for (std::size_t t = 0; t < tied.size(); ++t) alive[t] = t;
+        std::vector<double> val(tied.size());
+        for (int k = 0; k < n && alive.size() > 1; ++k) {
+            double best = 0.0, mag = 0.0;
+            bool first = true;
+            for (std::size_t t : alive) {
+                // Ratio of the perturbed value: value(eps) / -delta (min test) or -value(eps) / delta (start test).
+                val[t] = -sensitivity(tied[t], k, rows[t]) / tied[t].delta;
+                mag = std::max(mag, std::fabs(val[t]));
+                if (first || (takeMax ? val[t] > best : val[t] < best)) best = val[t];
+                first = false;
+            }
+            const double tol = 1e-12 * mag;
+            std::vector<std::size_t> keep;
+            for (std::size_t t : alive) {
+                if (std::fabs(val[t] - best) <= tol) keep.push_back(t);
+            }
+            alive.swap(keep);
+        }
+        std::size_t pick = alive[0];
+        for (std::size_t t : alive) {
+            if (tied[t].var < tied[pick].var) pick = t;
+        }
+        return int(pick);
+    }
+};
+
+
+}  // namespace unison
