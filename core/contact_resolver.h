@@ -63,6 +63,9 @@ struct ResolverOptions {
     double restitutionThreshold = 0.0;
     /// Tangent directions per contact in the friction pyramid (2D: always 2, +t and -t; 3D: even, >= 4).
     int frictionDirections = 4;
+    /// Tangential relative speeds at or below this (m/s) count as exactly zero in the friction LCP. Resting stacks
+    /// carry rounding-level creep (~1e-9 m/s) that makes Lemke end on a secondary ray; a world sets ~1e-8.
+    double tangentDeadZone = 0.0;
     LcpOptions lcp;
 };
 

@@ -220,7 +220,8 @@ LcpTriplets buildFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const s
         const int lambda = layout.slackOffset() + c;
         for (int m = 0; m < k; ++m) {
             const int t = layout.tangentOffset() + c * k + m;
-            lcp.b[std::size_t(t)] = relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
+            const double vt = relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
+            lcp.b[std::size_t(t)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
             lcp.add(t, lambda, 1.0);   // E: w_t = D^T v^+ + lambda e >= 0
             lcp.add(lambda, t, -1.0);  // -E^T
         }

@@ -266,6 +266,7 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     ResolverOptions options;
     options.restitutionThreshold = mDef.restitutionThreshold;
     options.frictionDirections = k;
+    options.tangentDeadZone = mDef.tangentDeadZone;
     options.lcp = mDef.lcp;
     options.lcp.warmBasis = warm.empty() ? nullptr : &warm;
     // A frame must not stall: a healthy path takes about n/2 pivots, so 2n + 100 bounds a bad one (then the

@@ -42,6 +42,7 @@ struct WorldDef2 {
     double baumgarte = 0.2;              ///< fraction of the penetration beyond the slop removed per step
     double maxCorrectionSpeed = 3.0;     ///< cap of the position-correction velocity (m/s)
     double speculativeDistance = 0.02;   ///< contacts this far apart are already in the LCP (m)
+    double tangentDeadZone = 1e-8;       ///< tangential speeds below this (m/s) are exactly 0 in the friction LCP
     bool enableSleep = true;
     double linearSleepTolerance = 0.01;  ///< m/s
     double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
