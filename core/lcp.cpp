@@ -33,8 +33,9 @@ namespace {
 // The guessed basis is usually exactly right (the previous step's basis, matched through contact ids). Checking it
 // needs only A_{alpha,alpha}^-1 b_alpha, which a sparse LU gives in O(nnz)-ish work; the dense block inverse that
 // further pivots would need is built only when the guess turns out wrong. True when `out` holds the solution.
-bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
-                        double scale, LcpResult& out) {
+bool trySparseBasis(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
+                    double scale, LcpResult& out, std::vector<int>& corrected) {
+    corrected.clear();
     const int n = ws.n;
     const int k = int(guess.size());
     std::vector<int> pos(std::size_t(n), -1);
@@ -72,12 +73,15 @@ bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>
     }
     const double zeroY = 1e-13 * std::max(zMax, kTiny);
     const double zeroW = 1e-13 * (ws.bMax + ws.aMax * zMax);
-    for (int q = 0; q < k; ++q) {
-        if (z[q] < -zeroY) return false;
-    }
+    bool feasible = true;
     for (int i = 0; i < n; ++i) {
-        if (pos[std::size_t(i)] < 0 && w[std::size_t(i)] < -zeroW) return false;
+        // The corrected guess of a block principal pivot: keep the basic z's that are >= 0, add the w's that are < 0.
+        const int q = pos[std::size_t(i)];
+        const bool negative = q >= 0 ? z[q] < -zeroY : w[std::size_t(i)] < -zeroW;
+        feasible = feasible && !negative;
+        if ((q >= 0) != negative) corrected.push_back(i);
     }
+    if (!feasible) return false;
     std::fill(out.z.begin(), out.z.end(), 0.0);
     for (int q = 0; q < k; ++q) out.z[std::size_t(guess[std::size_t(q)])] = z[q];
     out.w = w;
@@ -89,6 +93,20 @@ bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>
     out.warmStarted = true;
     out.work = std::uint64_t(M.nonZeros()) + std::uint64_t(n);
     return true;
+}
+
+// The guess, corrected up to three times by block principal pivoting (drop basic z's that came out negative, add
+// rows whose w came out negative): a resting scene's basis often differs from last step's by a few degenerate
+// unknowns that flipped sign by rounding, and a sparse solve per round is far cheaper than Lemke pivots.
+bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
+                        double scale, LcpResult& out) {
+    std::vector<int> current = guess, corrected;
+    for (int round = 0; round < 4; ++round) {
+        if (trySparseBasis(ws, current, options, scale, out, corrected)) return true;
+        if (corrected.empty() || corrected == current) return false;
+        current.swap(corrected);
+    }
+    return false;
 }
 
 }  // namespace
