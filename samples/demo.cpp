@@ -6,8 +6,11 @@
 //  2. billiard.svg A cue ball hitting two touching balls at +-30 degrees, e = 0.9.
 //  3. pyramid.svg  A settled 20-row box pyramid: all 800 contact impulses from one Lemke solve, drawn as bars.
 //                  The same solve is repeated warm-started from its own basis, as the next frame would be.
+//  4. world_pyramid.svg  The 2D world (in progress, issue 3): the Box2D testbed pyramid (scenes/pyramid20.json)
+//                  dropped, landed and stepped for 5 s, with its contact impulses.
 // Usage: unison_demo [OUTPUT_DIR]   (default: out)
 #include "lcp_families.h"
+#include "scene_json.h"
 #include "resolver2d.h"
 #include "svg.h"
 
@@ -143,6 +146,49 @@ bool pyramid(const std::string& dir) {
     return cold.status == LcpStatus::solved && pic.save(dir + "/pyramid.svg");
 }
 
+bool worldPyramid(const std::string& dir) {
+    nlohmann::json scene = scenes::readSceneFile(scenes::sceneDir() + "/pyramid20.json");
+    scene["sleep"] = false;  // keep every island solving, so the picture shows this step's impulses
+    scenes::LoadedScene2 loaded = scenes::loadScene2(scene, "pyramid20.json");
+    World2& world = *loaded.world;
+    const auto t0 = std::chrono::steady_clock::now();
+    int failed = 0;
+    for (int i = 0; i < 300; ++i) {
+        world.step();
+        failed += world.stats().failedIslands;
+    }
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    svg::Picture pic(-8.5, -0.8, 16.5, 21.5, 900);
+    pic.line(-8.5, 0.0, 16.5, 0.0, "#222", 3.0);
+    for (std::size_t k = 1; k < loaded.bodies.size(); ++k) {
+        const BodyState2* s = world.state(loaded.bodies[k]);
+        const Polygon& poly = world.info(loaded.bodies[k])->shapes[0].polygon;
+        double xs[kMaxPolygonVertices], ys[kMaxPolygonVertices];
+        for (int v = 0; v < poly.count; ++v) {
+            const Vec2 p = transformPoint(Transform2{s->position, s->rotation}, poly.vertices[std::size_t(v)]);
+            xs[v] = p.x;
+            ys[v] = p.y;
+        }
+        pic.polygon(xs, ys, poly.count, "#eef1f5", "#8899aa");
+    }
+    double fMax = 0.0;
+    for (const ContactPoint2& c : world.contacts()) fMax = std::max(fMax, c.normalImpulse);
+    for (const ContactPoint2& c : world.contacts()) {
+        if (c.normalImpulse > 0.0 && fMax > 0.0) pic.line(c.point.x, c.point.y, c.point.x, c.point.y + 0.9 * c.normalImpulse / fMax, "#c0392b", 2.0);
+    }
+    const BodyState2* top = world.state(loaded.bodies.back());
+    char title[256];
+    std::snprintf(title, sizeof title, "2D world: Box2D testbed pyramid (210 boxes) after 5 s: %zu contacts, failed islands %d",
+                  world.contacts().size(), failed);
+    pic.text(-8.2, 21.0, title, 15);
+    std::snprintf(title, sizeof title, "top box at (%.4f, %.4f) (it started at x = 3.6875); sleeping off; red bars: last step's contact impulses", top->position.x,
+                  top->position.y);
+    pic.text(-8.2, 20.2, title, 13);
+    std::printf("world     pyramid20 300 steps (sleep off) %.0f ms, failed islands %d, top box at (%.4f, %.4f)\n", ms, failed,
+                top->position.x, top->position.y);
+    return pic.save(dir + "/world_pyramid.svg");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -151,10 +197,12 @@ int main(int argc, char** argv) {
     bool ok = cradle(dir);
     ok = billiard(dir) && ok;
     ok = pyramid(dir) && ok;
+    ok = worldPyramid(dir) && ok;
     if (!ok) {
         std::fprintf(stderr, "demo: a scene failed or a picture could not be written to %s\n", dir.c_str());
         return 1;
     }
-    std::printf("pictures: %s/cradle.svg %s/billiard.svg %s/pyramid.svg\n", dir.c_str(), dir.c_str(), dir.c_str());
+    std::printf("pictures: %s/cradle.svg %s/billiard.svg %s/pyramid.svg %s/world_pyramid.svg\n", dir.c_str(), dir.c_str(),
+                dir.c_str(), dir.c_str());
     return 0;
 }

@@ -45,6 +45,12 @@ void Picture::line(double x0, double y0, double x1, double y1, const std::string
              "\" stroke=\"" + stroke + "\" stroke-width=\"" + num(widthPx) + "\"/>\n";
 }
 
+void Picture::polygon(const double* xs, const double* ys, int count, const std::string& fill, const std::string& stroke) {
+    std::string pts;
+    for (int i = 0; i < count; ++i) pts += num(px(xs[i])) + "," + num(py(ys[i])) + " ";
+    mBody += "<polygon points=\"" + pts + "\" fill=\"" + fill + "\" stroke=\"" + stroke + "\"/>\n";
+}
+
 void Picture::arrow(double x, double y, double dx, double dy, const std::string& stroke) {
     const double len = std::sqrt(dx * dx + dy * dy);
     if (len == 0.0) return;

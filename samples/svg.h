@@ -12,6 +12,8 @@ public:
     void circle(double x, double y, double r, const std::string& fill, const std::string& stroke = "#222");
     void rect(double cx, double cy, double hw, double hh, const std::string& fill, const std::string& stroke = "#222");
     void line(double x0, double y0, double x1, double y1, const std::string& stroke, double widthPx = 2.0);
+    /// A closed polygon through world points (xs[i], ys[i]).
+    void polygon(const double* xs, const double* ys, int count, const std::string& fill, const std::string& stroke = "#222");
     /// An arrow from (x, y) along (dx, dy), in world units.
     void arrow(double x, double y, double dx, double dy, const std::string& stroke);
     /// Text at a world position; `sizePx` in pixels.
