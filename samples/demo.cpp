@@ -106,7 +106,7 @@ bool billiard(const std::string& dir) {
 bool pyramid(const std::string& dir) {
     const int rows = 20;
     const scenes::Scene2 scene = scenes::pyramid2dScene(rows);
-    const Lcp lcp = assembleCollisionLcp(scene.bodies, scene.contacts);
+    const SparseLcp lcp = assembleCollisionLcpSparse(scene.bodies, scene.contacts);
     LemkeSolver solver;
     const auto t0 = std::chrono::steady_clock::now();
     const LcpResult cold = solver.solve(lcp);
