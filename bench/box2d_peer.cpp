@@ -14,43 +14,24 @@ namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& path, const std::string& why) { throw Box2dSceneError(path + ": " + why); }
-
-const json* find(const json& obj, const std::string& path, const char* key, bool required) {
-    if (!obj.is_object()) fail(path, "expected an object");
-    const auto it = obj.find(key);
-    if (it == obj.end()) {
-        if (required) fail(path + "." + key, "missing");
-        return nullptr;
-    }
-    return &*it;
-}
-
-double num(const json& v, const std::string& path) {
-    if (!v.is_number()) fail(path, "expected a number");
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(path, "expected a finite number");
-    return x;
-}
-
-double numOr(const json& obj, const std::string& path, const char* key, double fallback) {
-    const json* v = find(obj, path, key, false);
-    return v ? num(*v, path + "." + key) : fallback;
-}
+using jsonio::fail;
+using jsonio::member;
+using jsonio::number;
+using jsonio::numberOr;
 
 b2Vec2 vec(const json& v, const std::string& path) {
     if (!v.is_array() || v.size() != 2) fail(path, "expected [x, y]");
-    return b2Vec2(float(num(v[0], path + "[0]")), float(num(v[1], path + "[1]")));
+    return b2Vec2(float(number(v[0], path + "[0]")), float(number(v[1], path + "[1]")));
 }
 
 b2Vec2 vecOr(const json& obj, const std::string& path, const char* key, b2Vec2 fallback) {
-    const json* v = find(obj, path, key, false);
+    const json* v = member(obj, path, key, false);
     return v ? vec(*v, path + "." + key) : fallback;
 }
 
 // Creates the fixture of one scene shape on `body`.
 void addFixture(b2Body* body, const json& js, const std::string& path, float restitutionThreshold) {
-    const json* type = find(js, path, "type", true);
+    const json* type = member(js, path, "type", true);
     if (!type->is_string()) fail(path + ".type", "expected a string");
     const std::string t = type->get<std::string>();
 
@@ -60,14 +41,14 @@ void addFixture(b2Body* body, const json& js, const std::string& path, float res
     b2FixtureDef fd;
     if (t == "circle") {
         circle.m_p = vecOr(js, path, "center", b2Vec2(0.0f, 0.0f));
-        circle.m_radius = float(num(*find(js, path, "radius", true), path + ".radius"));
+        circle.m_radius = float(number(*member(js, path, "radius", true), path + ".radius"));
         fd.shape = &circle;
     } else if (t == "box") {
-        const b2Vec2 h = vec(*find(js, path, "half_extents", true), path + ".half_extents");
-        polygon.SetAsBox(h.x, h.y, vecOr(js, path, "center", b2Vec2(0.0f, 0.0f)), float(numOr(js, path, "angle", 0.0)));
+        const b2Vec2 h = vec(*member(js, path, "half_extents", true), path + ".half_extents");
+        polygon.SetAsBox(h.x, h.y, vecOr(js, path, "center", b2Vec2(0.0f, 0.0f)), float(numberOr(js, path, "angle", 0.0)));
         fd.shape = &polygon;
     } else if (t == "polygon") {
-        const json* vs = find(js, path, "vertices", true);
+        const json* vs = member(js, path, "vertices", true);
         if (!vs->is_array() || vs->size() < 3 || vs->size() > b2_maxPolygonVertices)
             fail(path + ".vertices", "expected 3 to 8 points");
         b2Vec2 points[b2_maxPolygonVertices];
@@ -75,16 +56,16 @@ void addFixture(b2Body* body, const json& js, const std::string& path, float res
         polygon.Set(points, int32(vs->size()));
         fd.shape = &polygon;
     } else if (t == "segment") {
-        const json* ps = find(js, path, "points", true);
+        const json* ps = member(js, path, "points", true);
         if (!ps->is_array() || ps->size() != 2) fail(path + ".points", "expected two points");
         edge.SetTwoSided(vec((*ps)[0], path + ".points[0]"), vec((*ps)[1], path + ".points[1]"));
         fd.shape = &edge;
     } else {
         fail(path + ".type", "unknown 2D shape type \"" + t + "\" (circle, box, polygon, segment)");
     }
-    fd.density = float(numOr(js, path, "density", 1.0));
-    fd.friction = float(numOr(js, path, "friction", 0.6));
-    fd.restitution = float(numOr(js, path, "restitution", 0.0));
+    fd.density = float(numberOr(js, path, "density", 1.0));
+    fd.friction = float(numberOr(js, path, "friction", 0.6));
+    fd.restitution = float(numberOr(js, path, "restitution", 0.0));
     fd.restitutionThreshold = restitutionThreshold;
     body->CreateFixture(&fd);
 }
@@ -93,20 +74,20 @@ void addFixture(b2Body* body, const json& js, const std::string& path, float res
 
 Box2dPeer::Box2dPeer(const json& scene, const std::string& what, int velocityIterations, int positionIterations)
     : mVelocityIterations(velocityIterations), mPositionIterations(positionIterations) {
-    const json* dim = find(scene, what, "dimension", true);
+    const json* dim = member(scene, what, "dimension", true);
     if (!dim->is_number_integer() || dim->get<int>() != 2) fail(what + ".dimension", "the Box2D peer takes 2D scenes only");
-    mHz = numOr(scene, what, "hz", 60.0);
+    mHz = numberOr(scene, what, "hz", 60.0);
     if (!(mHz > 0.0)) fail(what + ".hz", "must be > 0");
-    const float threshold = float(numOr(scene, what, "restitution_threshold", 1.0));
+    const float threshold = float(numberOr(scene, what, "restitution_threshold", 1.0));
     bool sleep = true;
-    if (const json* sl = find(scene, what, "sleep", false)) {
+    if (const json* sl = member(scene, what, "sleep", false)) {
         if (!sl->is_boolean()) fail(what + ".sleep", "expected true or false");
         sleep = sl->get<bool>();
     }
     mWorld = std::make_unique<b2World>(vecOr(scene, what, "gravity", b2Vec2(0.0f, -10.0f)));
     mWorld->SetAllowSleeping(sleep);
 
-    const json* bodies = find(scene, what, "bodies", true);
+    const json* bodies = member(scene, what, "bodies", true);
     if (!bodies->is_array()) fail(what + ".bodies", "expected an array");
     mBodies.reserve(bodies->size());
     for (std::size_t i = 0; i < bodies->size(); ++i) {
@@ -114,7 +95,7 @@ Box2dPeer::Box2dPeer(const json& scene, const std::string& what, int velocityIte
         const json& jb = (*bodies)[i];
         b2BodyDef bd;
         std::string type = "dynamic";
-        if (const json* t = find(jb, path, "type", false)) {
+        if (const json* t = member(jb, path, "type", false)) {
             if (!t->is_string()) fail(path + ".type", "expected a string");
             type = t->get<std::string>();
         }
@@ -123,11 +104,11 @@ Box2dPeer::Box2dPeer(const json& scene, const std::string& what, int velocityIte
         else if (type == "dynamic") bd.type = b2_dynamicBody;
         else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
         bd.position = vecOr(jb, path, "position", b2Vec2(0.0f, 0.0f));
-        bd.angle = float(numOr(jb, path, "angle", 0.0));
+        bd.angle = float(numberOr(jb, path, "angle", 0.0));
         bd.linearVelocity = vecOr(jb, path, "linear_velocity", b2Vec2(0.0f, 0.0f));
-        bd.angularVelocity = float(numOr(jb, path, "angular_velocity", 0.0));
+        bd.angularVelocity = float(numberOr(jb, path, "angular_velocity", 0.0));
         b2Body* body = mWorld->CreateBody(&bd);
-        if (const json* js = find(jb, path, "shapes", false)) {
+        if (const json* js = member(jb, path, "shapes", false)) {
             if (!js->is_array()) fail(path + ".shapes", "expected an array");
             for (std::size_t k = 0; k < js->size(); ++k)
                 addFixture(body, (*js)[k], path + ".shapes[" + std::to_string(k) + "]", threshold);

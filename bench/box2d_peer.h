@@ -16,6 +16,7 @@
 #pragma once
 
 #include "dim2.h"
+#include "json_fields.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,9 +31,7 @@ class b2Body;
 namespace unison::bench {
 
 /// A scene the peer cannot build; what() names the key, like scenes::SceneError.
-struct Box2dSceneError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+using Box2dSceneError = jsonio::JsonError;
 
 /// One 2D scene built in Box2D 2.4.1. Not copyable (owns the b2World).
 class Box2dPeer {

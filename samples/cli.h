@@ -5,7 +5,7 @@
 // cli::InputError (exit code 2).
 #pragma once
 
-#include "json_read.h"
+#include "json_fields.h"
 #include "lcp.h"
 
 #include <nlohmann/json.hpp>
@@ -14,6 +14,17 @@
 #include <string>
 
 namespace unison::cli {
+
+/// Bad user input: the message names the file position or key. Exit code 2.
+using InputError = jsonio::JsonError;
+using jsonio::array;
+using jsonio::boolean;
+using jsonio::integer;
+using jsonio::member;
+using jsonio::number;
+using jsonio::numbers;
+using jsonio::parseJson;
+using jsonio::readFile;
 
 /// What a command prints on stdout and the exit code it ends with.
 struct CommandOutput {

@@ -10,12 +10,7 @@
 namespace unison::cli {
 
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out) {
-    scenes::LoadedScene2 loaded;
-    try {
-        loaded = scenes::loadScene2(scene, what);
-    } catch (const scenes::SceneError& e) {
-        throw InputError(e.what());
-    }
+    scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
     int totalPivots = 0, maxIslandPivots = 0, failed = 0;
     double maxResidual = 0.0, maxPenetration = 0.0;

@@ -2,45 +2,24 @@
 #include "scene_json.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 namespace unison::scenes {
 namespace {
 
 using nlohmann::json;
 
-[[noreturn]] void fail(const std::string& path, const std::string& why) { throw SceneError(path + ": " + why); }
-
-const json* find(const json& obj, const std::string& path, const char* key, bool required) {
-    if (!obj.is_object()) fail(path, "expected an object");
-    const auto it = obj.find(key);
-    if (it == obj.end()) {
-        if (required) fail(path + "." + key, "missing");
-        return nullptr;
-    }
-    return &*it;
-}
-
-double num(const json& v, const std::string& path) {
-    if (!v.is_number()) fail(path, "expected a number");
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(path, "expected a finite number");
-    return x;
-}
-
-double numOr(const json& obj, const std::string& path, const char* key, double fallback) {
-    const json* v = find(obj, path, key, false);
-    return v ? num(*v, path + "." + key) : fallback;
-}
+using jsonio::fail;
+using jsonio::member;
+using jsonio::number;
+using jsonio::numberOr;
 
 Vec2 vec(const json& v, const std::string& path) {
     if (!v.is_array() || v.size() != 2) fail(path, "expected [x, y]");
-    return {num(v[0], path + "[0]"), num(v[1], path + "[1]")};
+    return {number(v[0], path + "[0]"), number(v[1], path + "[1]")};
 }
 
 Vec2 vecOr(const json& obj, const std::string& path, const char* key, Vec2 fallback) {
-    const json* v = find(obj, path, key, false);
+    const json* v = member(obj, path, key, false);
     return v ? vec(*v, path + "." + key) : fallback;
 }
 
@@ -49,35 +28,35 @@ void check(const std::string& error, const std::string& path) {
 }
 
 Shape2 readShape(const json& js, const std::string& path) {
-    const json* type = find(js, path, "type", true);
+    const json* type = member(js, path, "type", true);
     if (!type->is_string()) fail(path + ".type", "expected a string");
     const std::string t = type->get<std::string>();
     Shape2 s;
     if (t == "circle") {
         s.type = ShapeType::circle;
-        check(makeCircle(vecOr(js, path, "center", {}), num(*find(js, path, "radius", true), path + ".radius"), &s.circle), path);
+        check(makeCircle(vecOr(js, path, "center", {}), number(*member(js, path, "radius", true), path + ".radius"), &s.circle), path);
     } else if (t == "box") {
         s.type = ShapeType::polygon;
-        const Vec2 h = vec(*find(js, path, "half_extents", true), path + ".half_extents");
-        check(makeBox(h.x, h.y, vecOr(js, path, "center", {}), numOr(js, path, "angle", 0.0), &s.polygon), path);
+        const Vec2 h = vec(*member(js, path, "half_extents", true), path + ".half_extents");
+        check(makeBox(h.x, h.y, vecOr(js, path, "center", {}), numberOr(js, path, "angle", 0.0), &s.polygon), path);
     } else if (t == "polygon") {
         s.type = ShapeType::polygon;
-        const json* vs = find(js, path, "vertices", true);
+        const json* vs = member(js, path, "vertices", true);
         if (!vs->is_array()) fail(path + ".vertices", "expected an array of [x, y]");
         std::vector<Vec2> pts;
         for (std::size_t i = 0; i < vs->size(); ++i) pts.push_back(vec((*vs)[i], path + ".vertices[" + std::to_string(i) + "]"));
         check(makePolygon(pts, &s.polygon), path);
     } else if (t == "segment") {
         s.type = ShapeType::segment;
-        const json* ps = find(js, path, "points", true);
+        const json* ps = member(js, path, "points", true);
         if (!ps->is_array() || ps->size() != 2) fail(path + ".points", "expected two points");
         check(makeSegment(vec((*ps)[0], path + ".points[0]"), vec((*ps)[1], path + ".points[1]"), &s.segment), path);
     } else {
         fail(path + ".type", "unknown 2D shape type \"" + t + "\" (circle, box, polygon, segment)");
     }
-    s.density = numOr(js, path, "density", 1.0);
-    s.friction = numOr(js, path, "friction", 0.6);
-    s.restitution = numOr(js, path, "restitution", 0.0);
+    s.density = numberOr(js, path, "density", 1.0);
+    s.friction = numberOr(js, path, "friction", 0.6);
+    s.restitution = numberOr(js, path, "restitution", 0.0);
     if (s.density < 0.0) fail(path + ".density", "must be >= 0");
     if (s.friction < 0.0) fail(path + ".friction", "must be >= 0");
     if (s.restitution < 0.0 || s.restitution > 1.0) fail(path + ".restitution", "must be in [0, 1]");
@@ -87,28 +66,28 @@ Shape2 readShape(const json& js, const std::string& path) {
 }  // namespace
 
 LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldDef2& base) {
-    const json* dim = find(scene, what, "dimension", true);
+    const json* dim = member(scene, what, "dimension", true);
     if (!dim->is_number_integer()) fail(what + ".dimension", "expected 2 or 3");
     if (dim->get<int>() != 2) fail(what + ".dimension", "only 2D scenes are supported so far (3D: issue 5)");
     WorldDef2 def = base;
     def.gravity = vecOr(scene, what, "gravity", def.gravity);
-    def.hz = numOr(scene, what, "hz", def.hz);
+    def.hz = numberOr(scene, what, "hz", def.hz);
     if (!(def.hz > 0.0)) fail(what + ".hz", "must be > 0");
-    if (const json* t = find(scene, what, "restitution_threshold", false)) def.restitutionThreshold = num(*t, what + ".restitution_threshold");
-    if (const json* sl = find(scene, what, "sleep", false)) {
+    if (const json* t = member(scene, what, "restitution_threshold", false)) def.restitutionThreshold = number(*t, what + ".restitution_threshold");
+    if (const json* sl = member(scene, what, "sleep", false)) {
         if (!sl->is_boolean()) fail(what + ".sleep", "expected true or false");
         def.enableSleep = sl->get<bool>();
     }
     LoadedScene2 out;
     out.world = std::make_unique<World2>(def);
-    const json* bodies = find(scene, what, "bodies", true);
+    const json* bodies = member(scene, what, "bodies", true);
     if (!bodies->is_array()) fail(what + ".bodies", "expected an array");
     for (std::size_t i = 0; i < bodies->size(); ++i) {
         const std::string path = what + ".bodies[" + std::to_string(i) + "]";
         const json& jb = (*bodies)[i];
         BodyDef2 bd;
         std::string type = "dynamic";
-        if (const json* t = find(jb, path, "type", false)) {
+        if (const json* t = member(jb, path, "type", false)) {
             if (!t->is_string()) fail(path + ".type", "expected a string");
             type = t->get<std::string>();
         }
@@ -117,11 +96,11 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
         else if (type == "dynamic") bd.type = BodyType::dynamicBody;
         else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
         bd.position = vecOr(jb, path, "position", {});
-        bd.angle = numOr(jb, path, "angle", 0.0);
+        bd.angle = numberOr(jb, path, "angle", 0.0);
         bd.linearVelocity = vecOr(jb, path, "linear_velocity", {});
-        bd.angularVelocity = numOr(jb, path, "angular_velocity", 0.0);
+        bd.angularVelocity = numberOr(jb, path, "angular_velocity", 0.0);
         std::vector<Shape2> shapes;
-        if (const json* js = find(jb, path, "shapes", false)) {
+        if (const json* js = member(jb, path, "shapes", false)) {
             if (!js->is_array()) fail(path + ".shapes", "expected an array");
             for (std::size_t k = 0; k < js->size(); ++k) shapes.push_back(readShape((*js)[k], path + ".shapes[" + std::to_string(k) + "]"));
         }
@@ -133,17 +112,7 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
     return out;
 }
 
-json readSceneFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw SceneError(path + ": cannot open file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    try {
-        return json::parse(text.str());
-    } catch (const json::parse_error& e) {
-        throw SceneError(path + ": malformed JSON: " + e.what());
-    }
-}
+json readSceneFile(const std::string& path) { return jsonio::parseJson(jsonio::readFile(path), path); }
 
 std::string sceneDir() { return UNISON_SCENE_DIR; }
 

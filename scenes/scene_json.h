@@ -5,20 +5,18 @@
 // Invariants: a scene that fails to load leaves no partial world behind (the caller gets an error, not a world).
 #pragma once
 
+#include "json_fields.h"
 #include "world2d.h"
 
 #include <nlohmann/json.hpp>
 
 #include <memory>
-#include <stdexcept>
 #include <string>
 
 namespace unison::scenes {
 
 /// A malformed or invalid scene; what() names the key, e.g. "bodies[3].shapes[0].radius: must be > 0".
-struct SceneError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
+using SceneError = jsonio::JsonError;
 
 /// A loaded 2D scene: the world and the ids of its bodies in file order.
 struct LoadedScene2 {

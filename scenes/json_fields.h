@@ -1,8 +1,8 @@
-// samples/json_read.h — strict readers for the command-line tool's JSON files.
+// scenes/json_fields.h — strict readers for every JSON file of the project (resolver input, scenes, the Box2D peer).
 //
 // Owns: turning a nlohmann::json value into numbers and vectors with error messages that name the exact key
-// ("bodies[2].mass: expected a finite number"). Every reader throws InputError, which the tool reports on stderr
-// with exit code 2 (DESIGN.md "Command-line contract").
+// ("bodies[2].mass: expected a finite number"). Every reader throws JsonError; the command-line tool reports it on
+// stderr with exit code 2 (DESIGN.md "Command-line contract").
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -11,22 +11,27 @@
 #include <string>
 #include <vector>
 
-namespace unison::cli {
+namespace unison::jsonio {
 
-/// Bad user input: the message names the file position or key. Exit code 2.
-struct InputError : std::runtime_error {
+/// Bad JSON input: the message names the file position or key.
+struct JsonError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Parses JSON text; a syntax error becomes an InputError naming `what` (usually the file name).
+/// Throws JsonError("path: why").
+[[noreturn]] void fail(const std::string& path, const std::string& why);
+
+/// Parses JSON text; a syntax error becomes an JsonError naming `what` (usually the file name).
 nlohmann::json parseJson(const std::string& text, const std::string& what);
-/// Reads a whole file; a missing or unreadable file is an InputError.
+/// Reads a whole file; a missing or unreadable file is an JsonError.
 std::string readFile(const std::string& path);
 
-/// The member `key` of object `obj` (which `path` names); an InputError when missing and required.
+/// The member `key` of object `obj` (which `path` names); an JsonError when missing and required.
 const nlohmann::json* member(const nlohmann::json& obj, const std::string& path, const char* key, bool required);
 /// A finite number.
 double number(const nlohmann::json& v, const std::string& path);
+/// The finite number obj[key], or `fallback` when the key is absent.
+double numberOr(const nlohmann::json& obj, const std::string& path, const char* key, double fallback);
 /// An integer in [lo, hi].
 int integer(const nlohmann::json& v, const std::string& path, int lo, int hi);
 /// A boolean.
@@ -36,4 +41,4 @@ std::vector<double> numbers(const nlohmann::json& v, const std::string& path, st
 /// An array (any length).
 const nlohmann::json& array(const nlohmann::json& v, const std::string& path);
 
-}  // namespace unison::cli
+}  // namespace unison::jsonio
