@@ -12,6 +12,7 @@
 #include "contact_resolver.h"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace unison {
@@ -45,45 +46,99 @@ bool isImmovable(const ResolverBody<D>& body) {
     return body.invMass == 0.0 && D::invInertiaZero(body.invInertia);
 }
 
-// Adds J M^-1 J^T of `rows` into the top-left block of `lcp` (rows.size() x rows.size()), eq. (20).
-// Bodies are visited in index order and, per body, rows in index order, so every A_ij is summed in a fixed order.
+// J M^-1 J^T of `rows`, eq. (20), one row at a time. Per body, the rows touching it in row order (with the
+// row's slot, 0 for A and 1 for B) and I_k^-1 r*_ki of each; row i's entries are then the merge of the row lists of
+// its two bodies. An entry shared by both bodies (two rows on the same pair) is summed in body index order, so every
+// A_ij is the same sum, in the same order, whether it is built densely (addTo) or in compressed rows (appendRow).
 template <class D>
-void addCoupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<JacobianRow<D>>& rows, LcpTriplets& lcp) {
-    // Rows touching each body: (row, slot) pairs, built in row order.
-    std::vector<int> start(bodies.size() + 1, 0);
-    for (const auto& r : rows) {
-        ++start[std::size_t(r.body[0]) + 1];
-        ++start[std::size_t(r.body[1]) + 1];
-    }
-    for (std::size_t k = 0; k < bodies.size(); ++k) start[k + 1] += start[k];
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    std::vector<int> entryRow(std::size_t(start.back()));
-    std::vector<int> entrySlot(std::size_t(start.back()));
-    for (int i = 0; i < int(rows.size()); ++i) {
-        for (int s = 0; s < 2; ++s) {
-            const int k = rows[std::size_t(i)].body[s];
-            entryRow[std::size_t(fill[std::size_t(k)])] = i;
-            entrySlot[std::size_t(fill[std::size_t(k)])] = s;
-            ++fill[std::size_t(k)];
+class Coupling {
+public:
+    Coupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<JacobianRow<D>>& rows)
+        : mBodies(bodies), mRows(rows), mStart(bodies.size() + 1, 0) {
+        for (const auto& r : rows) {
+            ++mStart[std::size_t(r.body[0]) + 1];
+            ++mStart[std::size_t(r.body[1]) + 1];
         }
-    }
-    for (std::size_t k = 0; k < bodies.size(); ++k) {
-        const ResolverBody<D>& body = bodies[k];
-        if (isImmovable(body)) continue;  // infinite mass: contributes nothing (the paper's dummy body)
-        for (int p = start[k]; p < start[k + 1]; ++p) {
-            const JacobianRow<D>& ri = rows[std::size_t(entryRow[std::size_t(p)])];
-            const int si = entrySlot[std::size_t(p)];
-            // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part below.
-            const typename D::Ang invIri = D::applyInvInertia(body.invInertia, ri.ang[si]);
-            for (int q = start[k]; q < start[k + 1]; ++q) {
-                const JacobianRow<D>& rj = rows[std::size_t(entryRow[std::size_t(q)])];
-                const int sj = entrySlot[std::size_t(q)];
-                const double term = body.invMass * D::dot(ri.lin[si], rj.lin[sj]) + D::angDot(invIri, rj.ang[sj]);
-                lcp.add(entryRow[std::size_t(p)], entryRow[std::size_t(q)], term);
+        for (std::size_t k = 0; k < bodies.size(); ++k) mStart[k + 1] += mStart[k];
+        std::vector<int> fill(mStart.begin(), mStart.end() - 1);
+        const std::size_t entries = std::size_t(mStart.back());
+        mEntryRow.resize(entries);
+        mEntrySlot.resize(entries);
+        mInvIr.resize(entries);
+        mRowEntry.resize(2 * rows.size());
+        for (int i = 0; i < int(rows.size()); ++i) {
+            for (int s = 0; s < 2; ++s) {
+                const int k = rows[std::size_t(i)].body[s];
+                const std::size_t e = std::size_t(fill[std::size_t(k)]++);
+                mEntryRow[e] = i;
+                mEntrySlot[e] = s;
+                // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part in term().
+                mInvIr[e] = D::applyInvInertia(bodies[std::size_t(k)].invInertia, rows[std::size_t(i)].ang[s]);
+                mRowEntry[2 * std::size_t(i) + std::size_t(s)] = int(e);
             }
         }
     }
-}
+
+    /// Appends row i's nonzero entries (columns ascending) to cols/vals.
+    void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals) const {
+        const JacobianRow<D>& ri = mRows[std::size_t(i)];
+        const int a = ri.body[0], b = ri.body[1];
+        int pa = movable(a) ? mStart[std::size_t(a)] : 0, ea = movable(a) ? mStart[std::size_t(a) + 1] : 0;
+        int pb = movable(b) ? mStart[std::size_t(b)] : 0, eb = movable(b) ? mStart[std::size_t(b) + 1] : 0;
+        while (pa < ea || pb < eb) {
+            const int ja = pa < ea ? mEntryRow[std::size_t(pa)] : std::numeric_limits<int>::max();
+            const int jb = pb < eb ? mEntryRow[std::size_t(pb)] : std::numeric_limits<int>::max();
+            double v;
+            int j;
+            if (ja < jb) {
+                j = ja;
+                v = term(i, 0, pa++);
+            } else if (jb < ja) {
+                j = jb;
+                v = term(i, 1, pb++);
+            } else {
+                j = ja;
+                const double ta = term(i, 0, pa++), tb = term(i, 1, pb++);
+                v = a < b ? ta + tb : tb + ta;
+            }
+            if (v != 0.0) {
+                cols.push_back(j);
+                vals.push_back(v);
+            }
+        }
+    }
+
+    /// Adds every term to `lcp` (dense assembly), bodies in index order.
+    void addTo(LcpTriplets& lcp) const {
+        for (std::size_t k = 0; k < mBodies.size(); ++k) {
+            if (!movable(int(k))) continue;
+            for (int p = mStart[k]; p < mStart[k + 1]; ++p) {
+                const int i = mEntryRow[std::size_t(p)];
+                for (int q = mStart[k]; q < mStart[k + 1]; ++q)
+                    lcp.add(i, mEntryRow[std::size_t(q)], term(i, mEntrySlot[std::size_t(p)], q));
+            }
+        }
+    }
+
+private:
+    // Infinite mass contributes nothing (the paper's dummy body).
+    bool movable(int k) const { return !isImmovable(mBodies[std::size_t(k)]); }
+
+    // The contribution to A_ij of the body in slot si of row i, with row j being entry q of that body's list.
+    double term(int i, int si, int q) const {
+        const ResolverBody<D>& body = mBodies[std::size_t(mRows[std::size_t(i)].body[si])];
+        const JacobianRow<D>& ri = mRows[std::size_t(i)];
+        const JacobianRow<D>& rj = mRows[std::size_t(mEntryRow[std::size_t(q)])];
+        const int sj = mEntrySlot[std::size_t(q)];
+        const auto& invIri = mInvIr[std::size_t(mRowEntry[2 * std::size_t(i) + std::size_t(si)])];
+        return body.invMass * D::dot(ri.lin[si], rj.lin[sj]) + D::angDot(invIri, rj.ang[sj]);
+    }
+
+    const std::vector<ResolverBody<D>>& mBodies;
+    const std::vector<JacobianRow<D>>& mRows;
+    std::vector<int> mStart, mEntryRow, mEntrySlot, mRowEntry;
+    std::vector<typename D::Ang> mInvIr;
+};
 
 // Velocity of the contact point along `dir`, body A minus body B, eq. (2) and (4).
 template <class D>
@@ -158,17 +213,20 @@ std::string validate(const std::vector<ResolverBody<D>>& bodies, const std::vect
 namespace detail {
 
 template <class D>
-LcpTriplets buildCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
-                              const ResolverOptions& options) {
-    const int n = int(contacts.size());
-    LcpTriplets lcp(n);
+std::vector<JacobianRow<D>> normalRows(const std::vector<ResolverBody<D>>& bodies,
+                                       const std::vector<ContactNode<D>>& contacts) {
     std::vector<JacobianRow<D>> rows;
-    rows.reserve(std::size_t(n));
+    rows.reserve(contacts.size());
     for (const auto& c : contacts) rows.push_back(makeRow(bodies, c, c.normal));
-    addCoupling(bodies, rows, lcp);  // eq. (20)
-    for (int i = 0; i < n; ++i)
-        lcp.b[std::size_t(i)] = normalRhs(bodies, contacts[std::size_t(i)], options.restitutionThreshold);  // eq. (19)
-    return lcp;
+    return rows;
+}
+
+template <class D>
+std::vector<double> normalRhsAll(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                                 const ResolverOptions& options) {
+    std::vector<double> b(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i) b[i] = normalRhs(bodies, contacts[i], options.restitutionThreshold);  // eq. (19)
+    return b;
 }
 
 }  // namespace detail
@@ -176,13 +234,27 @@ LcpTriplets buildCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const 
 template <class D>
 Lcp assembleCollisionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                          const ResolverOptions& options) {
-    return detail::buildCollisionLcp(bodies, contacts, options).toDense();
+    const auto rows = detail::normalRows(bodies, contacts);
+    LcpTriplets lcp(int(contacts.size()));
+    detail::Coupling<D>(bodies, rows).addTo(lcp);  // eq. (20)
+    lcp.b = detail::normalRhsAll(bodies, contacts, options);
+    return lcp.toDense();
 }
 
 template <class D>
 SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
                                      const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options) {
-    return detail::buildCollisionLcp(bodies, contacts, options).toSparse();
+    const auto rows = detail::normalRows(bodies, contacts);
+    const detail::Coupling<D> coupling(bodies, rows);
+    SparseLcp lcp;
+    lcp.n = int(contacts.size());
+    lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    for (int i = 0; i < lcp.n; ++i) {
+        coupling.appendRow(i, lcp.cols, lcp.vals);
+        lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
+    }
+    lcp.b = detail::normalRhsAll(bodies, contacts, options);
+    return lcp;
 }
 
 template <class D>
@@ -196,39 +268,40 @@ std::vector<typename D::Vec> frictionDirections(const ContactNode<D>& c, int k) 
 
 namespace detail {
 
+// The rows and right-hand side of the friction LCP; A's coupling block comes from Coupling over `rows`.
 template <class D>
-LcpTriplets buildFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
-                             const ResolverOptions& options, FrictionLayout* outLayout) {
+struct FrictionSystem {
     FrictionLayout layout;
+    std::vector<JacobianRow<D>> rows;  // normal rows first, then the tangent rows of contact 0, 1, ...: J = [N ; D]
+    std::vector<double> b;
+    std::vector<double> mu;            // per contact
+};
+
+template <class D>
+FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies,
+                                      const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options) {
+    FrictionSystem<D> sys;
+    FrictionLayout& layout = sys.layout;
     layout.contacts = int(contacts.size());
     layout.directions = D::frictionDirectionCount(options.frictionDirections);
     const int nc = layout.contacts;
     const int k = layout.directions;
-    LcpTriplets lcp(layout.size());
-    // Normal rows first, then the tangent rows of contact 0, contact 1, ...: J = [N ; D].
-    std::vector<JacobianRow<D>> rows;
-    rows.reserve(std::size_t(nc * (k + 1)));
-    for (const auto& c : contacts) rows.push_back(makeRow(bodies, c, c.normal));
-    for (const auto& c : contacts) {
-        for (const auto& t : frictionDirections(c, k)) rows.push_back(makeRow(bodies, c, t));
-    }
-    addCoupling(bodies, rows, lcp);
+    sys.rows = normalRows(bodies, contacts);
+    sys.rows.reserve(std::size_t(nc * (k + 1)));
+    sys.b.assign(std::size_t(layout.size()), 0.0);
+    sys.mu.resize(std::size_t(nc));
     for (int c = 0; c < nc; ++c) {
         const ContactNode<D>& node = contacts[std::size_t(c)];
-        lcp.b[std::size_t(c)] = normalRhs(bodies, node, options.restitutionThreshold);
+        sys.b[std::size_t(c)] = normalRhs(bodies, node, options.restitutionThreshold);
+        sys.mu[std::size_t(c)] = node.friction;
         const auto dirs = frictionDirections(node, k);
-        const int lambda = layout.slackOffset() + c;
         for (int m = 0; m < k; ++m) {
-            const int t = layout.tangentOffset() + c * k + m;
+            sys.rows.push_back(makeRow(bodies, node, dirs[std::size_t(m)]));
             const double vt = relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
-            lcp.b[std::size_t(t)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
-            lcp.add(t, lambda, 1.0);   // E: w_t = D^T v^+ + lambda e >= 0
-            lcp.add(lambda, t, -1.0);  // -E^T
+            sys.b[std::size_t(layout.tangentOffset() + c * k + m)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
         }
-        lcp.add(lambda, c, node.friction);  // w_lambda = mu f_n - sum beta >= 0 (Coulomb pyramid)
     }
-    if (outLayout) *outLayout = layout;
-    return lcp;
+    return sys;
 }
 
 }  // namespace detail
@@ -236,15 +309,61 @@ LcpTriplets buildFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const s
 template <class D>
 Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                         const ResolverOptions& options, FrictionLayout* outLayout) {
-    return detail::buildFrictionLcp(bodies, contacts, options, outLayout).toDense();
+    const detail::FrictionSystem<D> sys = detail::buildFrictionSystem(bodies, contacts, options);
+    const FrictionLayout& layout = sys.layout;
+    LcpTriplets lcp(layout.size());
+    detail::Coupling<D>(bodies, sys.rows).addTo(lcp);
+    for (int c = 0; c < layout.contacts; ++c) {
+        const int lambda = layout.slackOffset() + c;
+        for (int m = 0; m < layout.directions; ++m) {
+            const int t = layout.tangentOffset() + c * layout.directions + m;
+            lcp.add(t, lambda, 1.0);   // E: w_t = D^T v^+ + lambda e >= 0
+            lcp.add(lambda, t, -1.0);  // -E^T
+        }
+        lcp.add(lambda, c, sys.mu[std::size_t(c)]);  // w_lambda = mu f_n - sum beta >= 0 (Coulomb pyramid)
+    }
+    lcp.b = sys.b;
+    if (outLayout) *outLayout = layout;
+    return lcp.toDense();
 }
 
 template <class D>
 SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
                                     const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
                                     FrictionLayout* outLayout) {
-    return detail::buildFrictionLcp(bodies, contacts, options, outLayout).toSparse();
+    // The same entries as assembleFrictionLcp, written row by row: coupling rows (each tangent row ending with its
+    // slack column, the largest index), then the slack rows [mu at the normal, -1 at each tangent].
+    detail::FrictionSystem<D> sys = detail::buildFrictionSystem(bodies, contacts, options);
+    const FrictionLayout& layout = sys.layout;
+    const int nc = layout.contacts, k = layout.directions, nr = int(sys.rows.size());
+    const detail::Coupling<D> coupling(bodies, sys.rows);
+    SparseLcp lcp;
+    lcp.n = layout.size();
+    lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    for (int i = 0; i < nr; ++i) {
+        coupling.appendRow(i, lcp.cols, lcp.vals);
+        if (i >= layout.tangentOffset()) {
+            lcp.cols.push_back(layout.slackOffset() + (i - layout.tangentOffset()) / k);
+            lcp.vals.push_back(1.0);
+        }
+        lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
+    }
+    for (int c = 0; c < nc; ++c) {
+        if (sys.mu[std::size_t(c)] != 0.0) {
+            lcp.cols.push_back(c);
+            lcp.vals.push_back(sys.mu[std::size_t(c)]);
+        }
+        for (int m = 0; m < k; ++m) {
+            lcp.cols.push_back(layout.tangentOffset() + c * k + m);
+            lcp.vals.push_back(-1.0);
+        }
+        lcp.rowStart[std::size_t(nr + c) + 1] = int(lcp.cols.size());
+    }
+    lcp.b = std::move(sys.b);
+    if (outLayout) *outLayout = layout;
+    return lcp;
 }
+
 
 template <class D>
 void applyImpulses(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,

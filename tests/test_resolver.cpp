@@ -4,6 +4,7 @@
 
 #include "resolver2d.h"
 #include "resolver3d.h"
+#include "lcp_families.h"
 
 #include <cmath>
 #include <cstring>
@@ -421,3 +422,45 @@ TEST_CASE("two runs give bit-identical impulses and velocities") {
 }
 
 }  // TEST_SUITE
+
+namespace {
+
+// Entry by entry (columns and bit patterns of the values), the compressed-row assembly against toSparse of the
+// dense assembly: the world solves the former, tests and the CLI often the latter.
+template <class D>
+void checkSparseEqualsDense(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                            const ResolverOptions& options) {
+    const SparseLcp pairs[2][2] = {
+        {toSparse(assembleCollisionLcp(bodies, contacts, options)), assembleCollisionLcpSparse(bodies, contacts, options)},
+        {toSparse(assembleFrictionLcp(bodies, contacts, options)), assembleFrictionLcpSparse(bodies, contacts, options)}};
+    for (const auto& pair : pairs) {
+        const SparseLcp& dense = pair[0];
+        const SparseLcp& sparse = pair[1];
+        REQUIRE(sparse.n == dense.n);
+        CHECK(sparse.rowStart == dense.rowStart);
+        CHECK(sparse.cols == dense.cols);
+        REQUIRE(sparse.vals.size() == dense.vals.size());
+        CHECK(std::memcmp(sparse.vals.data(), dense.vals.data(), dense.vals.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(sparse.b.data(), dense.b.data(), dense.b.size() * sizeof(double)) == 0);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("compressed-row assembly holds exactly the entries of the dense assembly") {
+    ResolverOptions options;
+    options.frictionDirections = 4;
+    SUBCASE("2D pyramid: two points per box pair, a static ground") {
+        const scenes::Scene2 s = scenes::pyramid2dScene(6);
+        checkSparseEqualsDense(s.bodies, s.contacts, options);
+    }
+    SUBCASE("2D pyramid with a frictionless contact (mu = 0 leaves no entry in its slack row)") {
+        scenes::Scene2 s = scenes::pyramid2dScene(4);
+        s.contacts[3].friction = 0.0;
+        checkSparseEqualsDense(s.bodies, s.contacts, options);
+    }
+    SUBCASE("3D cube stack") {
+        const scenes::Scene3 s = scenes::cubeStack3dScene(4);
+        checkSparseEqualsDense(s.bodies, s.contacts, options);
+    }
+}
