@@ -66,6 +66,11 @@ struct ResolverOptions {
     /// Tangential relative speeds at or below this (m/s) count as exactly zero in the friction LCP. Resting stacks
     /// carry rounding-level creep (~1e-9 m/s) that makes Lemke end on a secondary ray; a world sets ~1e-8.
     double tangentDeadZone = 0.0;
+    /// Also apply an answer whose solve ended `numerical_failure` when its scaled complementarity residual is at
+    /// most this (0: never). The Lemke solver ends that way when the answer of its tie-breaking perturbation misses
+    /// the true problem by more than LcpOptions::residualTolerance and no continuation did better; such an answer
+    /// is still an exact solution of an LCP within ~1e-7 of the given one.
+    double acceptResidual = 0.0;
     LcpOptions lcp;
 };
 
@@ -85,6 +90,8 @@ struct Resolution {
     int pivots = 0;
     std::uint64_t work = 0;
     double residual = 0.0;
+    double scaledResidual = 0.0;
+    bool approximate = false;      ///< the impulses are a `numerical_failure` answer accepted by acceptResidual
     bool fastPath = false;         ///< true when the single-contact closed form was used
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors

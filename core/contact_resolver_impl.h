@@ -161,13 +161,17 @@ double normalRhs(const std::vector<ResolverBody<D>>& bodies, const ContactNode<D
 }
 
 // Status, counts, basis and message of a Lemke solve, moved into the resolver's report.
-inline void takeSolveReport(LcpResult& r, Resolution& out) {
+// True when the impulses of `r` are to be applied (see ResolverOptions::acceptResidual).
+inline bool takeSolveReport(LcpResult& r, Resolution& out, const ResolverOptions& options) {
     out.status = r.status;
     out.pivots = r.pivots;
     out.work = r.work;
     out.residual = r.residual;
+    out.scaledResidual = r.scaledResidual;
+    out.approximate = r.status == LcpStatus::numerical_failure && r.scaledResidual <= options.acceptResidual;
     out.basis = std::move(r.basis);
     out.message = std::move(r.message);
+    return r.status == LcpStatus::solved || out.approximate;
 }
 
 template <class D>
@@ -408,8 +412,7 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
         out.status = LcpStatus::solved;
     } else if (lcp.n > 1) {
         LcpResult r = solver.solve(lcp, options.lcp);
-        detail::takeSolveReport(r, out);
-        if (r.status != LcpStatus::solved) return out;
+        if (!detail::takeSolveReport(r, out, options)) return out;
         out.impulses = std::move(r.z);
     } else {
         out.status = LcpStatus::solved;
@@ -427,8 +430,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     FrictionLayout layout;
     const SparseLcp lcp = assembleFrictionLcpSparse(ioBodies, contacts, options, &layout);
     LcpResult r = solver.solve(lcp, options.lcp);
-    detail::takeSolveReport(r, out);
-    if (r.status != LcpStatus::solved) return out;
+    if (!detail::takeSolveReport(r, out, options)) return out;
     const int nc = layout.contacts;
     const int k = layout.directions;
     out.impulses.assign(r.z.begin(), r.z.begin() + nc);

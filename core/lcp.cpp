@@ -25,10 +25,20 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 
 namespace unison {
 
 namespace {
+
+// Zobrist keys of the basis: the hash of a basis is the XOR of the keys of its column variables (basic z's and z0)
+// and of its block rows (nonbasic w's), so one pivot updates it with two XORs.
+std::uint64_t basisKey(int index, bool isRow) {
+    std::uint64_t x = (std::uint64_t(index) << 1 | (isRow ? 1u : 0u)) + 0x9e3779b97f4a7c15ull;  // splitmix64
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
 
 // The guessed basis is usually exactly right (the previous step's basis, matched through contact ids). Checking it
 // needs only A_{alpha,alpha}^-1 b_alpha, which a sparse LU gives in O(nnz)-ish work; the dense block inverse that
@@ -81,7 +91,18 @@ bool trySparseBasis(const LemkeSolver::Workspace& ws, const std::vector<int>& gu
         feasible = feasible && !negative;
         if ((q >= 0) != negative) corrected.push_back(i);
     }
-    if (!feasible) return false;
+    if (!feasible) {
+        // Degenerate unknowns of a resting pile come out a little below zero when b moved since the basis was
+        // found (Lemke's own answers are held to the residual tolerance, not to zero). Accept the basis when every
+        // violation is below that tolerance: clamp, recompute w, and let the residual check below decide.
+        const double tolAbs = options.residualTolerance * scale;
+        for (int i = 0; i < n; ++i) {
+            const int q = pos[std::size_t(i)];
+            if ((q >= 0 ? z[q] : w[std::size_t(i)]) < -tolAbs) return false;
+        }
+        for (int q = 0; q < k; ++q) z[q] = std::max(z[q], 0.0);
+        computeW();
+    }
     std::fill(out.z.begin(), out.z.end(), 0.0);
     for (int q = 0; q < k; ++q) out.z[std::size_t(guess[std::size_t(q)])] = z[q];
     out.w = w;
@@ -162,7 +183,7 @@ LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options
     return run(ws, problem.b.data(), options);
 }
 
-LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& options) {
+LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft) {
     LcpResult result;
     const int n = ws.n;
     const std::size_t nn = std::size_t(n);
@@ -329,6 +350,29 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     }
 
     // ---- Main loop. --------------------------------------------------------------------------------------------
+    // Lemke's path never revisits a basis, so a repeated basis means rounding has made the pivot path cycle (seen
+    // on landing piles whose friction rows tie by the hundred). The basis hashes seen so far catch that within one
+    // turn of the cycle instead of at the pivot cap.
+    std::uint64_t basisHash = 0;
+    for (int q = 0; q < ws.m; ++q) basisHash ^= basisKey(ws.colVar[std::size_t(q)], false) ^ basisKey(ws.rowIdx[std::size_t(q)], true);
+    std::set<std::uint64_t> seenBases{basisHash};
+    const int warmCap = std::max(100, maxPivots / 4);
+    // Cycling (or a wandering warm path): restart with the remaining budget, at most `restartsLeft` times: cold
+    // from a warm run, else with a 100x larger perturbation (separating the ties that rounding confused).
+    auto restart = [&](bool wandered) {
+        if (restartsLeft <= 0)
+            return finishWith(LcpStatus::pivot_limit, wandered ? "pivot cap reached" : "the pivot path cycles (rounding on a degenerate problem)");
+        LcpOptions retry = options;
+        retry.warmBasis = nullptr;
+        retry.degeneracyPerturbation = warm ? options.degeneracyPerturbation : std::max(options.degeneracyPerturbation, 1e-8) * 10.0;
+        retry.maxPivots = std::max(1, maxPivots - result.pivots);
+        if (options.maxWork) retry.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
+        LcpResult r = run(ws, b, retry, restartsLeft - 1);
+        r.pivots += result.pivots;
+        r.work += result.work;
+        ++r.restarts;
+        return r;
+    };
     // The entering variable: a column variable (z_e, or z0 = n) or a slack w_e leaving the block rows.
     int enterVar = n;      // z0 first
     bool enterIsColumn = true;
@@ -340,6 +384,9 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     for (;;) {
         const std::uint64_t cost = std::uint64_t(ws.m + 1) * std::uint64_t(ws.m + 1) + std::uint64_t(n);
         if (result.pivots >= maxPivots) return finishWith(LcpStatus::pivot_limit, "pivot cap reached");
+        // A warm path that wanders (the special covering vector can lead far from the guess) gets a quarter of the
+        // budget; the rest goes to a cold start, whose length is the usual ~n/2.
+        if (warm && result.pivots >= warmCap) return restart(true);
         if (options.maxWork && result.work + cost > options.maxWork) return finishWith(LcpStatus::pivot_limit, "work budget exhausted");
         const int m = ws.m;
         // Direction of the basic variables per unit of the entering variable.
@@ -419,7 +466,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
                 // The warm basis could not be repaired by z0 along this covering vector: start cold.
                 LcpOptions cold = options;
                 cold.warmBasis = nullptr;
-                LcpResult r = run(ws, b, cold);
+                LcpResult r = run(ws, b, cold, restartsLeft);
                 r.pivots += result.pivots;
                 r.work += result.work;
                 return r;
@@ -572,18 +619,33 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         result.work += cost;
         ++sinceRefactor;
         startStep = false;
+        // The entering variable joins (a column) or its row leaves the block; the leaving one the other way round.
+        basisHash ^= basisKey(enterVar, !enterIsColumn) ^ basisKey(leave.isColumn ? leave.var : leave.pos, !leave.isColumn);
+        if (!seenBases.insert(basisHash).second) return restart(false);
 
         if (leave.isColumn && leave.var == n) {  // z0 left: complementary basis
             assembleSolution();
             if (result.status == LcpStatus::numerical_failure && perturbed) {
-                // The perturbed problem's basis is not exactly right for the true b: continue from it unperturbed.
+                // The perturbed problem's basis is not exactly right for the true b: continue from it with a
+                // 1000x smaller perturbation (still breaking ties), then unperturbed.
                 LcpOptions exact = options;
-                exact.degeneracyPerturbation = 0.0;
+                exact.degeneracyPerturbation = options.degeneracyPerturbation > 1e-9 ? options.degeneracyPerturbation * 0.1 : 0.0;
+                exact.maxPivots = std::max(1, maxPivots - result.pivots);
+                if (options.maxWork) exact.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
                 const std::vector<int> basis = result.basis;
                 exact.warmBasis = &basis;
-                LcpResult r = run(ws, b, exact);
+                LcpResult r = run(ws, b, exact, restartsLeft);
                 r.pivots += result.pivots;
                 r.work += result.work;
+                if (r.status != LcpStatus::solved && !(r.status == LcpStatus::numerical_failure && r.scaledResidual <= result.scaledResidual)) {
+                    // The continuation did not do better (it can cycle on the ties the larger perturbation had
+                    // separated): return this answer, marked numerical_failure with its residual, for the caller
+                    // to judge.
+                    result.pivots = r.pivots;
+                    result.work = r.work;
+                    result.restarts = r.restarts;
+                    return result;
+                }
                 return r;
             }
             return result;

@@ -108,6 +108,7 @@ struct LcpResult {
     double scaledResidual = 0.0; ///< residual / max(max|A_ij|, max|b_i|)
     std::vector<int> basis;      ///< ascending indices with z_i basic at the end: feed back as a warm start
     bool warmStarted = false;    ///< true when the warm basis was used (not discarded for a cold start)
+    int restarts = 0;            ///< times the pivot path cycled (a basis repeated) and the solve restarted
     std::string message;         ///< human-readable detail for invalid_input / failures
 };
 
@@ -140,7 +141,8 @@ public:
     struct Workspace;
 
 private:
-    LcpResult run(Workspace& ws, const double* b, const LcpOptions& options);
+    /// One Lemke run; `restartsLeft` bounds the restarts after a cycling pivot path.
+    LcpResult run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft = 2);
     Workspace& workspace();
     std::unique_ptr<Workspace> mWorkspace;  // buffers reused between solves; no state carries over
 };

@@ -5,6 +5,9 @@
 
 #include "lcp.h"
 
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -188,57 +191,48 @@ struct LemkeSolver::Workspace {
         if (enteringVar >= 0) addColumn(enteringVar, 1.0, dw.data());
     }
 
-    /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv by Gauss-Jordan with partial pivoting.
+    /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv: a sparse LU of the block (the block of a
+    /// contact LCP is as sparse as A), then one solve per unit vector. False when the block is singular or so badly
+    /// conditioned that rank-one updates from it would be meaningless.
     bool refactor() {
         reserveBlock(m);
-        const std::size_t mm = std::size_t(m);
-        std::vector<double> M(mm * mm, 0.0);
+        if (m == 0) return true;
+        std::vector<Eigen::Triplet<double>> entries;
         double scale = 0.0;
         const int q0 = posCol[std::size_t(n)];
         for (int p = 0; p < m; ++p) {
             const int i = rowIdx[std::size_t(p)];
             for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
                 const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
-                if (q >= 0) M[std::size_t(p) * mm + std::size_t(q)] = rowVal[std::size_t(k)];
+                if (q < 0) continue;
+                entries.emplace_back(p, q, rowVal[std::size_t(k)]);
+                scale = std::max(scale, std::fabs(rowVal[std::size_t(k)]));
             }
-            if (q0 >= 0) M[std::size_t(p) * mm + std::size_t(q0)] = d[std::size_t(i)];
-            for (int q = 0; q < m; ++q) scale = std::max(scale, std::fabs(M[std::size_t(p) * mm + std::size_t(q)]));
-        }
-        // Solve M X = I; X (q x p) is Binv. Work on [M | I] row-reduced.
-        std::vector<double> I(mm * mm, 0.0);
-        for (int p = 0; p < m; ++p) I[std::size_t(p) * mm + std::size_t(p)] = 1.0;
-        for (int q = 0; q < m; ++q) {
-            int best = -1;
-            double bestAbs = 0.0;
-            for (int p = q; p < m; ++p) {
-                const double a = std::fabs(M[std::size_t(p) * mm + std::size_t(q)]);
-                if (a > bestAbs) { bestAbs = a; best = p; }
-            }
-            if (best < 0 || bestAbs <= 1e-14 * scale) return false;
-            if (best != q) {
-                for (std::size_t k = 0; k < mm; ++k) {
-                    std::swap(M[std::size_t(best) * mm + k], M[std::size_t(q) * mm + k]);
-                    std::swap(I[std::size_t(best) * mm + k], I[std::size_t(q) * mm + k]);
-                }
-            }
-            const double inv = 1.0 / M[std::size_t(q) * mm + std::size_t(q)];
-            for (std::size_t k = 0; k < mm; ++k) {
-                M[std::size_t(q) * mm + k] *= inv;
-                I[std::size_t(q) * mm + k] *= inv;
-            }
-            for (int p = 0; p < m; ++p) {
-                if (p == q) continue;
-                const double f = M[std::size_t(p) * mm + std::size_t(q)];
-                if (f == 0.0) continue;
-                for (std::size_t k = 0; k < mm; ++k) {
-                    M[std::size_t(p) * mm + k] -= f * M[std::size_t(q) * mm + k];
-                    I[std::size_t(p) * mm + k] -= f * I[std::size_t(q) * mm + k];
-                }
+            if (q0 >= 0 && d[std::size_t(i)] != 0.0) {
+                entries.emplace_back(p, q0, d[std::size_t(i)]);
+                scale = std::max(scale, std::fabs(d[std::size_t(i)]));
             }
         }
-        // Row q of the reduced identity is row q of M^-1 = Binv[q][.].
-        for (int q = 0; q < m; ++q) std::copy_n(&I[std::size_t(q) * mm], mm, row(q));
-        return true;
+        Eigen::SparseMatrix<double> M(m, m);
+        M.setFromTriplets(entries.begin(), entries.end());
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+        lu.compute(M);
+        if (lu.info() != Eigen::Success) return false;
+        // Column p of M^-1 is row p of nothing in particular: Binv[q][p] = (M^-1)(q, p).
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(m), x(m);
+        double xMax = 0.0;
+        for (int p = 0; p < m; ++p) {
+            e[p] = 1.0;
+            x = lu.solve(e);
+            e[p] = 0.0;
+            for (int q = 0; q < m; ++q) {
+                if (!std::isfinite(x[q])) return false;
+                row(q)[p] = x[q];
+                xMax = std::max(xMax, std::fabs(x[q]));
+            }
+        }
+        // |M^-1| |M| ~ condition number: beyond 1e14 the pivots that follow would be rounding noise.
+        return xMax * scale <= 1e14;
     }
 
     /// Recomputes every basic value from scratch (the entering variable is at zero between pivots).
