@@ -15,6 +15,7 @@
 #include "test_support.h"
 
 #include "box2d_peer.h"
+#include "det_math.h"
 #include "make_scenes2d.h"
 #include "scene_json.h"
 #include "world2d.h"
@@ -120,6 +121,15 @@ TEST_CASE("vertical stack of 10 boxes: both rest, heights agree within 1 cm afte
 }
 
 TEST_CASE("20-row pyramid at the testbed spacing: both rest; columns and heights against Box2D") {
+    // The Box2D 2.4.1 testbed pyramid (0.5 m boxes, rows 0.25 m apart, so it lands). Tolerances (issue 3):
+    //   - Vertically every box within 2 cm of Box2D's resting height after removing (row + 1) * kPolygonLayer of
+    //     skin. Unison rests touching (at most the 5 mm slop per layer; measured 0), Box2D decompresses to its
+    //     skin (see kRestSeconds); 2 cm leaves room for Box2D's remaining compression of its 20 layers.
+    //   - Horizontally the issue asks for every box within 2 cm of Box2D. That target is NOT met and not asserted:
+    //     Box2D's pile spreads as it lands (30 of its 210 boxes end 2 to 7 cm from their columns, measured), while
+    //     Unison's keeps every box on its testbed column to 3e-11 m. All contacts of the settled pile are
+    //     horizontal faces, so its equilibrium needs no horizontal force and the columns are the exact answer;
+    //     that is asserted instead (within 1 mm), and the distance to Box2D is printed.
     const int rows = 20;
     const json scene = scenes::pyramidScene(rows, 0.5, true);
     Both both(scene, "pyramid20", false);
@@ -200,6 +210,125 @@ TEST_CASE("restitution row: rebound apexes within 3 % of Box2D and of e^2 h") {
         CHECK(std::fabs(riseU - e * e * hU) <= 0.03 * e * e * hU);
         CHECK(std::fabs(riseU - riseB) <= 0.03 * riseB);
     }
+}
+
+// A box on the ramp of scenes::rampScene (angle theta, effective friction mu), launched along the ramp at `speed`
+// (m/s, > 0 up the ramp); returns its displacement along the ramp (m, > 0 up) in each engine after `steps`.
+struct RampRun {
+    double unison = 0.0, box2d = 0.0;
+};
+RampRun runRamp(double theta, double mu, double speed, int steps) {
+    json scene = scenes::rampScene(theta, mu, false);
+    double s = 0.0, c = 1.0;
+    dmath::sincos(theta, &s, &c);
+    scene["bodies"][1]["linear_velocity"] = json::array({speed * c, speed * s});
+    Both both(scene, "ramp");
+    const Vec2 startU = both.uPos(1), startB = both.bPos(1), along{c, s};
+    both.run(steps);
+    return {dot(both.uPos(1) - startU, along), dot(both.bPos(1) - startB, along)};
+}
+
+TEST_CASE("friction ramp: mu above tan(theta) stays, below slides, as in Box2D") {
+    // theta = 30 degrees, tan(theta) = 0.577. Over 1 s a box at rest slides down by a t (t + dt) / 2 with
+    // a = g (sin(theta) - mu cos(theta)) (the semi-implicit Euler sum of the Coulomb closed form) when
+    // mu < tan(theta), and does not move when mu > tan(theta). Tolerances: a staying box moves < 1 mm in either
+    // engine (Box2D's skin and float rounding allow a little creep, Unison's LCP none); a sliding one is within
+    // 5 % of the closed form and of Box2D (issue 3's tolerance for the ramp).
+    const double theta = 3.141592653589793 / 6.0, g = 10.0, t = 1.0, dt = 1.0 / 60.0;
+    for (double mu : {0.3, 0.5, 0.65, 0.8}) {
+        CAPTURE(mu);
+        const RampRun run = runRamp(theta, mu, 0.0, 60);
+        const double a = g * (0.5 - mu * std::sqrt(0.75));
+        const double expected = a > 0.0 ? -0.5 * a * t * (t + dt) : 0.0;
+        report("ramp 30 deg, mu %.2f: displacement after 1 s unison %+.5f m, box2d %+.5f m, closed form %+.5f m", mu,
+               run.unison, run.box2d, expected);
+        if (a > 0.0) {
+            CHECK(std::fabs(run.unison - expected) <= 0.05 * std::fabs(expected));
+            CHECK(std::fabs(run.unison - run.box2d) <= 0.05 * std::fabs(run.box2d));
+        } else {
+            CHECK(std::fabs(run.unison) < 1e-3);
+            CHECK(std::fabs(run.box2d) < 1e-3);
+        }
+    }
+}
+
+TEST_CASE("friction ramp: stopping distances within 5 % of Box2D") {
+    // theta = 20 degrees, mu = 0.6 > tan(theta) = 0.364: a box launched along the ramp at 3 m/s decelerates at
+    // g (mu cos(theta) -+ sin(theta)) and stops after v^2 / (2 a) (continuous closed form: 2.03 m downhill, 0.50 m
+    // uphill; the semi-implicit Euler sum is about v dt / 2 = 2.5 cm shorter), then stays. Tolerance 5 % of
+    // Box2D's distance (issue 3); the closed form is printed for reference.
+    const double theta = 20.0 / 180.0 * 3.141592653589793, mu = 0.6, g = 10.0, v = 3.0;
+    double s = 0.0, c = 1.0;
+    dmath::sincos(theta, &s, &c);
+    for (double dir : {-1.0, 1.0}) {
+        CAPTURE(dir);
+        const RampRun run = runRamp(theta, mu, dir * v, 180);
+        const double a = g * (mu * c + dir * s);
+        report("ramp 20 deg, mu 0.6, launched %s at 3 m/s: stopping distance unison %.4f m, box2d %.4f m (%+.2f %%), "
+               "closed form %.4f m",
+               dir < 0.0 ? "down" : "up", std::fabs(run.unison), std::fabs(run.box2d),
+               100.0 * (std::fabs(run.unison) / std::fabs(run.box2d) - 1.0), v * v / (2.0 * a));
+        CHECK(dir * run.unison > 0.0);
+        CHECK(std::fabs(run.unison - run.box2d) <= 0.05 * std::fabs(run.box2d));
+    }
+}
+
+TEST_CASE("heavy box (100:1) on a stack of light boxes stays up") {
+    // Three 1 m boxes of density 1 with a box of density 100 on top (stackScene's 5 cm gaps, so it lands). The
+    // stack must stand: after 5 s the heavy box is above the light ones (|x| < 1 cm) at the height of 3 boxes
+    // less at most the 5 mm slop per contact layer, and nothing moves. Box2D's numbers are printed for reference
+    // (sequential impulses converge slowly at large mass ratios, so its layers are compressed more).
+    json scene = scenes::stackScene(4, true);
+    scene["bodies"][4]["shapes"][0]["density"] = 100.0;
+    Both both(scene, "heavy_on_light");
+    both.run(300);
+    const Vec2 pU = both.uPos(4), pB = both.bPos(4);
+    const double penetration = both.unison.world->stats().maxPenetration;
+    double lightB = 0.0;
+    for (int i = 1; i <= 3; ++i) lightB = std::max(lightB, std::fabs(both.bPos(i).x));
+    report("heavy on light: heavy box y unison %.5f (stacked 3.5), box2d %.5f (minus skin %.5f), |x| u %.1e b %.4f, "
+           "light boxes' largest |x| box2d %.4f, unison max penetration %.2e m",
+           pU.y, pB.y, pB.y - 4 * kPolygonLayer, std::fabs(pU.x), std::fabs(pB.x), lightB, penetration);
+    CHECK(std::fabs(pU.x) < 0.01);
+    CHECK(pU.y <= 3.5 + 1e-6);
+    CHECK(pU.y >= 3.5 - 4 * 0.005);
+    for (int i = 1; i <= 3; ++i) CHECK(std::fabs(both.uPos(i).x) < 0.01);
+    CHECK(penetration <= 0.005 + 1e-6);
+    CHECK(length(both.uVel(4)) < 1e-3);
+}
+
+TEST_CASE("Newton's cradle: Unison gives the simultaneous closed form, Box2D does not") {
+    // scenes/cradle.json: 5 touching balls (e = 1, no friction, no gravity), the first arriving at v = 2 m/s. The
+    // simultaneous model (DESIGN.md) gives v1 = v (1 - (1 + e)(N - 1)/N) = -0.6 v and v/N (1 + e) = 0.4 v for the
+    // others, leaving together; Unison's LCP reproduces it to 1e-9 relative. Box2D puts restitution only on the
+    // contact that approaches at the start of the step and runs 8 sequential-impulse sweeps, which stop short of
+    // that answer; the impacts it leaves between the other balls resolve over the next steps and spread the row
+    // (measured: -0.573, 0.357, 0.371, 0.402, 0.443 v). The test asserts that Box2D's answer differs from the
+    // closed form by more than 2 % of v on some ball, so the comparison can tell the two models apart.
+    const json scene = scenes::readSceneFile(scenes::sceneDir() + "/cradle.json");
+    Both both(scene, "cradle");
+    const double v = 2.0, e = 1.0, n = 5.0;
+    both.step();
+    for (int k = 0; k < 5; ++k) {
+        const double expected = k == 0 ? v * (1.0 - (1.0 + e) * (n - 1.0) / n) : v * (1.0 + e) / n;
+        CHECK(both.uVel(k).x == doctest::Approx(expected).epsilon(1e-9));
+    }
+    both.run(59);  // 1 s: every ball has separated in both engines
+    std::string lineU, lineB;
+    double box2dOff = 0.0;
+    for (int k = 0; k < 5; ++k) {
+        const double expected = k == 0 ? v * (1.0 - (1.0 + e) * (n - 1.0) / n) : v * (1.0 + e) / n;
+        CHECK(both.uVel(k).x == doctest::Approx(expected).epsilon(1e-9));
+        box2dOff = std::max(box2dOff, std::fabs(both.bVel(k).x - expected));
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " %+.4f", both.uVel(k).x / v);
+        lineU += buf;
+        std::snprintf(buf, sizeof buf, " %+.4f", both.bVel(k).x / v);
+        lineB += buf;
+    }
+    report("cradle after 1 s, velocities / v: unison%s; box2d%s; closed form -0.6 0.4 0.4 0.4 0.4; box2d's largest "
+           "deviation %.4f v", lineU.c_str(), lineB.c_str(), box2dOff / v);
+    CHECK(box2dOff > 0.02 * v);
 }
 
 }  // TEST_SUITE

@@ -75,14 +75,16 @@ TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form")
         CHECK(loaded.world->state(loaded.bodies[std::size_t(k)])->velocity.x == doctest::Approx(v * (1.0 + e) / n).epsilon(1e-9));
 }
 
-TEST_CASE("restitution row: rebound apex is e^2 h, up to the one-step early-bounce allowance") {
-    // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact that
-    // closes within the step at its start, so the apex may exceed e^2 h by up to (1 + e) v dt, never more, and
-    // must not fall short of it (beyond 2 % of h). e = 0 must not bounce at all.
+TEST_CASE("restitution row: rebound apex is e^2 h within 3 %") {
+    // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact at its
+    // time of impact inside the step (World2::solveIsland), so what remains is the semi-implicit Euler
+    // discretisation of the two flights: measured +0.6 % at e = 1 to +2.2 % at e = 1/6 (Box2D 2.4.1: +0.5 % to
+    // +1.2 %; tests/test_box2d_validation.cpp). Before that fix the apex was up to (1 + e) v dt high (+64 % at
+    // e = 1/6). e = 0 must not bounce at all.
     const auto scene = scenes::readSceneFile(scenes::sceneDir() + "/restitution_row.json");
     auto loaded = scenes::loadScene2(scene, "restitution_row.json");
     World2& world = *loaded.world;
-    const double h = 4.5, dt = 1.0 / 60.0, vImpact = std::sqrt(2.0 * 10.0 * h);
+    const double h = 4.5;
     std::vector<double> apex(8, -1.0), prevVy(8, -1.0);
     std::vector<int> bounces(8, 0);
     for (int step = 0; step < 400; ++step) {
@@ -101,8 +103,7 @@ TEST_CASE("restitution row: rebound apex is e^2 h, up to the one-step early-boun
         const double e = (k - 1) / 6.0;
         CAPTURE(e);
         const double rise = apex[std::size_t(k)] - 0.5;
-        CHECK(rise >= e * e * h - 0.02 * h);
-        CHECK(rise <= e * e * h + (1.0 + e) * vImpact * dt);
+        CHECK(std::fabs(rise - e * e * h) <= 0.03 * e * e * h);
     }
 }
 
