@@ -121,39 +121,59 @@ TEST_CASE("vertical stack of 10 boxes: both rest, heights agree within 1 cm afte
 }
 
 TEST_CASE("20-row pyramid at the testbed spacing: both rest; columns and heights against Box2D") {
-    // The Box2D 2.4.1 testbed pyramid (0.5 m boxes, rows 0.25 m apart, so it lands). Tolerances (issue 3):
+    // The Box2D 2.4.1 testbed pyramid (0.5 m boxes, rows 0.25 m apart, so it lands), in Box2D at the testbed's
+    // 8 velocity iterations and again at 32. Tolerances (issue 3):
     //   - Vertically every box within 2 cm of Box2D's resting height after removing (row + 1) * kPolygonLayer of
     //     skin. Unison rests touching (at most the 5 mm slop per layer; measured 0), Box2D decompresses to its
     //     skin (see kRestSeconds); 2 cm leaves room for Box2D's remaining compression of its 20 layers.
-    //   - Horizontally the issue asks for every box within 2 cm of Box2D. That target is NOT met and not asserted:
-    //     Box2D's pile spreads as it lands (30 of its 210 boxes end 2 to 7 cm from their columns, measured), while
-    //     Unison's keeps every box on its testbed column to 3e-11 m. All contacts of the settled pile are
-    //     horizontal faces, so its equilibrium needs no horizontal force and the columns are the exact answer;
-    //     that is asserted instead (within 1 mm), and the distance to Box2D is printed.
+    //   - Horizontally every box within 2 cm of Box2D. Against the testbed's 8 iterations this is NOT met, and
+    //     not asserted: that pile spreads as it lands (30 of 210 boxes end 2 to 7 cm from their columns,
+    //     measured). The spread is Box2D's unconverged solver: it shrinks to 3.1 cm at 16 iterations and 1.7 cm
+    //     at 32. All contacts of the settled pile are horizontal faces, so its equilibrium needs no horizontal
+    //     force and the testbed columns are the exact answer; Unison keeps every box on its column to 3e-11 m
+    //     (asserted within 1 mm), and within 2 cm of Box2D at 32 iterations (asserted).
     const int rows = 20;
     const json scene = scenes::pyramidScene(rows, 0.5, true);
+    const int steps = int(kRestSeconds * 60.0);
     Both both(scene, "pyramid20", false);
-    both.run(int(kRestSeconds * 60.0));
-    double worstDxB = 0.0, worstDy = 0.0, worstColumnU = 0.0, worstColumnB = 0.0;
-    int beyond = 0, body = 1;
+    bench::Box2dPeer converged(withSleep(scene, false), "pyramid20", 32, 3);
+    both.run(steps);
+    for (int i = 0; i < steps; ++i) converged.step();
+    auto compare = [&](const bench::Box2dPeer& peer, const char* label, bool assertColumns) {
+        double worstDx = 0.0, worstDy = 0.0, worstColumnB = 0.0;
+        int beyond = 0, body = 1;
+        for (int r = 0; r < rows; ++r) {
+            for (int j = 0; j < rows - r; ++j, ++body) {
+                const Vec2 pU = both.uPos(body), pB = peer.position(body);
+                const double column = scene["bodies"][std::size_t(body)]["position"][0].get<double>();
+                const double dx = std::fabs(pU.x - pB.x), dy = pU.y - (pB.y - (r + 1) * kPolygonLayer);
+                if (dx > 0.02) ++beyond;
+                worstDx = std::max(worstDx, dx);
+                worstDy = std::max(worstDy, std::fabs(dy));
+                worstColumnB = std::max(worstColumnB, std::fabs(pB.x - column));
+                CHECK(std::fabs(dy) <= 0.02);
+                if (assertColumns) CHECK(dx <= 0.02);
+            }
+        }
+        report("pyramid20 vs box2d %s: max |y_u - (y_b - skin)| %.4f m (tolerance 0.02); max |x_u - x_b| %.4f m "
+               "(tolerance 0.02), %d of %d boxes beyond; box2d's largest distance from its column %.4f m",
+               label, worstDy, worstDx, beyond, body - 1, worstColumnB);
+    };
+    compare(*both.box2d, "8 iterations (testbed)", false);
+    compare(converged, "32 iterations", true);
+    double worstColumnU = 0.0, worstHeightU = 0.0;
+    int body = 1;
     for (int r = 0; r < rows; ++r) {
         for (int j = 0; j < rows - r; ++j, ++body) {
-            const Vec2 pU = both.uPos(body), pB = both.bPos(body);
-            const double column = scene["bodies"][std::size_t(body)]["position"][0].get<double>();
-            const double dx = std::fabs(pU.x - pB.x), dy = pU.y - (pB.y - (r + 1) * kPolygonLayer);
-            if (dx > 0.02) ++beyond;
-            worstDxB = std::max(worstDxB, dx);
-            worstDy = std::max(worstDy, std::fabs(dy));
-            worstColumnU = std::max(worstColumnU, std::fabs(pU.x - column));
-            worstColumnB = std::max(worstColumnB, std::fabs(pB.x - column));
-            CHECK(std::fabs(dy) <= 0.02);
-            CHECK(std::fabs(pU.x - column) <= 1e-3);
+            const Vec2 pU = both.uPos(body);
+            worstColumnU = std::max(worstColumnU, std::fabs(pU.x - scene["bodies"][std::size_t(body)]["position"][0].get<double>()));
+            worstHeightU = std::max(worstHeightU, std::fabs(pU.y - (0.5 + r)));
             CHECK(std::fabs(pU.y - (0.5 + r)) <= 0.005 * (r + 1));
         }
     }
-    report("pyramid20: max |y_u - (y_b - skin)| %.4f m (tolerance 0.02); max |x_u - x_b| %.4f m, %d of %d boxes beyond 2 cm",
-           worstDy, worstDxB, beyond, body - 1);
-    report("pyramid20: max distance from the testbed column: unison %.1e m, box2d %.4f m", worstColumnU, worstColumnB);
+    report("pyramid20 unison: largest distance from the testbed column %.1e m, from the stacked height %.1e m",
+           worstColumnU, worstHeightU);
+    CHECK(worstColumnU <= 1e-3);
     CHECK_FALSE(both.unison.world->info(both.unison.bodies.back())->awake);  // came to rest and fell asleep
 }
 
