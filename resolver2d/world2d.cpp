@@ -257,7 +257,7 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
         if (bounces) {
             node.bias = 0.0;
             moveBias = std::min(mDef.maxCorrectionSpeed, -(1.0 + c.restitution) * sep / dt);
-            split = true;
+            split = split || moveBias != 0.0;  // touching at the step's start (the cradle): one solve does both
         } else if (sep > 0.0) {
             if (approachesFast) node.restitution = 0.0;
             node.bias = -sep / dt;
