@@ -121,24 +121,26 @@ TEST_CASE("vertical stack of 10 boxes: both rest, heights agree within 1 cm afte
 
 TEST_CASE("20-row pyramid at the testbed spacing: both rest; columns and heights against Box2D") {
     // The Box2D 2.4.1 testbed pyramid (0.5 m boxes, rows 0.25 m apart, so it lands), in Box2D at the testbed's
-    // 8 velocity iterations and again at 32. Tolerances (issue 3):
+    // 8 velocity iterations for kRestSeconds, and at 64 for 10 s (its columns are settled by then: the same to
+    // 0.1 mm at 30 s). Tolerances (issue 3):
     //   - Vertically every box within 2 cm of Box2D's resting height after removing (row + 1) * kPolygonLayer of
     //     skin. Unison rests touching (at most the 5 mm slop per layer; measured 0), Box2D decompresses to its
-    //     skin (see kRestSeconds); 2 cm leaves room for Box2D's remaining compression of its 20 layers.
+    //     skin (see kRestSeconds); 2 cm leaves room for Box2D's remaining compression of its 20 layers. Asserted
+    //     against the 8-iteration run.
     //   - Horizontally every box within 2 cm of Box2D. Against the testbed's 8 iterations this is NOT met, and
     //     not asserted: that pile spreads as it lands (30 of 210 boxes end 2 to 7 cm from their columns,
-    //     measured). The spread is Box2D's unconverged solver: it shrinks to 3.1 cm at 16 iterations and 1.7 cm
-    //     at 32. All contacts of the settled pile are horizontal faces, so its equilibrium needs no horizontal
-    //     force and the testbed columns are the exact answer; Unison keeps every box on its column to 3e-11 m
-    //     (asserted within 1 mm), and within 2 cm of Box2D at 32 iterations (asserted).
+    //     measured). The spread is Box2D's unconverged solver: it shrinks to 3.1 cm at 16 iterations, 1.7 cm at
+    //     32 and 1.3 cm at 64. All contacts of the settled pile are horizontal faces, so its equilibrium needs no
+    //     horizontal force and the testbed columns are the exact answer; Unison keeps every box on its column to
+    //     3e-11 m (asserted within 1 mm), and within 2 cm of Box2D at 64 iterations (asserted).
     const int rows = 20;
     const json scene = scenes::pyramidScene(rows, 0.5, true);
     const int steps = int(kRestSeconds * 60.0);
     Both both(scene, "pyramid20", false);
-    bench::Box2dPeer converged(withSleep(scene, false), "pyramid20", 32, 3);
+    bench::Box2dPeer converged(withSleep(scene, false), "pyramid20", 64, 3);
     both.run(steps);
-    for (int i = 0; i < steps; ++i) converged.step();
-    auto compare = [&](const bench::Box2dPeer& peer, const char* label, bool assertColumns) {
+    for (int i = 0; i < 600; ++i) converged.step();
+    auto compare = [&](const bench::Box2dPeer& peer, const char* label, bool assertHeights, bool assertColumns) {
         double worstDx = 0.0, worstDy = 0.0, worstColumnB = 0.0;
         int beyond = 0, body = 1;
         for (int r = 0; r < rows; ++r) {
@@ -150,16 +152,17 @@ TEST_CASE("20-row pyramid at the testbed spacing: both rest; columns and heights
                 worstDx = std::max(worstDx, dx);
                 worstDy = std::max(worstDy, std::fabs(dy));
                 worstColumnB = std::max(worstColumnB, std::fabs(pB.x - column));
-                CHECK(std::fabs(dy) <= 0.02);
+                if (assertHeights) CHECK(std::fabs(dy) <= 0.02);
                 if (assertColumns) CHECK(dx <= 0.02);
             }
         }
-        report("pyramid20 vs box2d %s: max |y_u - (y_b - skin)| %.4f m (tolerance 0.02); max |x_u - x_b| %.4f m "
-               "(tolerance 0.02), %d of %d boxes beyond; box2d's largest distance from its column %.4f m",
-               label, worstDy, worstDx, beyond, body - 1, worstColumnB);
+        report("pyramid20 vs box2d %s: max |y_u - (y_b - skin)| %.4f m%s; max |x_u - x_b| %.4f m%s, %d of %d boxes "
+               "beyond 2 cm; box2d's largest distance from its column %.4f m",
+               label, worstDy, assertHeights ? " (tolerance 0.02)" : "", worstDx, assertColumns ? " (tolerance 0.02)" : "",
+               beyond, body - 1, worstColumnB);
     };
-    compare(*both.box2d, "8 iterations (testbed)", false);
-    compare(converged, "32 iterations", true);
+    compare(*both.box2d, "8 iterations (testbed), 60 s", true, false);
+    compare(converged, "64 iterations, 10 s", false, true);
     double worstColumnU = 0.0, worstHeightU = 0.0;
     int body = 1;
     for (int r = 0; r < rows; ++r) {
