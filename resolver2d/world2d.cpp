@@ -230,6 +230,8 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     };
     for (int d : bodies) localOf(d);
     std::vector<Contact2> nodes;
+    std::vector<double> positionBias;  // per node: the bias of the position solve (differs on bouncing contacts)
+    bool split = false;                // some contact bounces this step: positions need their own solve
     std::vector<int> warm;
     const int nc = int(contactIdx.size());
     const int k = 2;  // 2D pyramid: +t and -t
@@ -238,17 +240,33 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
         Contact2 node = makeContact<Dim2>(localOf(c.bodyA), localOf(c.bodyB), c.point.point, c.normal, c.restitution,
                                           c.friction);
         const double sep = c.point.separation;
-        // Position correction only for contacts that will not bounce: on a restitution bounce the push-out
-        // velocity would be added to the rebound and create energy.
-        // A speculative contact that closes within this step and bounces gets plain restitution (it rebounds up to
-        // one step early, and keeps its energy); one that does not close this step only keeps its gap >= 0.
+        // Bounces are resolved at the time of impact (split into a velocity and a position answer):
+        //   - A contact that will not close within this step at its current approach speed is only speculative:
+        //     e = 0 and bias -sep/dt keep its gap >= 0 without any early rebound (it bounces in the step it closes).
+        //   - A contact that closes within the step bounces: the velocity solve targets v+ = e u (bias 0, no
+        //     position correction, which would add energy). With constant speed u over the step the surfaces
+        //     meet at t* = sep/u and then separate at e u, so the gap at the end of the step is e (u dt - sep);
+        //     moving the bodies by dt v+ would leave it sep + e u dt, (1 + e) sep too wide, and the apex up to
+        //     (1 + e) u dt too high. The positions therefore move by a second solve of the same island whose
+        //     bouncing contacts get bias -(1 + e) sep / dt (for sep < 0, a push-out of the overshoot, capped like
+        //     position correction); the velocities stay those of the first solve.
         const double vrel = relativeNormalVelocity(rb, node);
-        const bool bounces = c.restitution > 0.0 && vrel < -mDef.restitutionThreshold;
-        if (sep > 0.0) {
-            node.bias = bounces && sep + dt * vrel < 0.0 ? 0.0 : -sep / dt;
+        const bool approachesFast = c.restitution > 0.0 && vrel < -mDef.restitutionThreshold;
+        const bool bounces = approachesFast && sep + dt * vrel < 0.0;
+        double moveBias;
+        if (bounces) {
+            node.bias = 0.0;
+            moveBias = std::min(mDef.maxCorrectionSpeed, -(1.0 + c.restitution) * sep / dt);
+            split = split || moveBias != 0.0;  // touching at the step's start (the cradle): one solve does both
+        } else if (sep > 0.0) {
+            if (approachesFast) node.restitution = 0.0;
+            node.bias = -sep / dt;
+            moveBias = node.bias;
         } else {
-            node.bias = bounces ? 0.0 : std::min(mDef.maxCorrectionSpeed, mDef.baumgarte * std::max(0.0, -sep - mDef.linearSlop) / dt);
+            node.bias = std::min(mDef.maxCorrectionSpeed, mDef.baumgarte * std::max(0.0, -sep - mDef.linearSlop) / dt);
+            moveBias = node.bias;
         }
+        positionBias.push_back(moveBias);
         nodes.push_back(node);
         // Warm start: which of this contact's unknowns were basic last step.
         CacheEntry key{mBodies.idAt(c.bodyA).index1, mBodies.idAt(c.bodyB).index1, std::uint16_t(c.shapeA),
@@ -268,24 +286,42 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     options.frictionDirections = k;
     options.tangentDeadZone = mDef.tangentDeadZone;
     options.lcp = mDef.lcp;
-    options.lcp.warmBasis = warm.empty() ? nullptr : &warm;
-    // A frame must not stall: a healthy path takes about n/2 pivots, so 2n + 100 bounds a bad one (then the
-    // frictionless fallback below runs). WorldDef2::lcp.maxPivots overrides it.
-    if (options.lcp.maxPivots <= 0) options.lcp.maxPivots = 2 * 4 * nc + 100;
-    Resolution r = resolveWithFriction(rb, nodes, options, mSolver);
-    if (r.status != LcpStatus::solved) {
-        // Keep the island from falling through: the frictionless LCP always has a solution for approaching
-        // contacts between bodies that can move.
-        ++mStats.failedIslands;
-        options.lcp.warmBasis = nullptr;
-        options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 10 * nc + 1000;
-        r = resolveCollisions(rb, nodes, options, mSolver);
-    }
-    mStats.pivots += r.pivots;
-    mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, r.pivots);
-    mStats.work += r.work;
-    mStats.maxResidual = std::max(mStats.maxResidual, r.residual);
+    // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
+    // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
+    // takes about n/2 pivots, so 2n + 100 bounds a bad one (n = 4 nc unknowns). WorldDef2::lcp.maxPivots
+    // overrides both caps.
+    auto solve = [&](std::vector<Body2>& ioBodies, const std::vector<Contact2>& inNodes, const std::vector<int>* inWarm) {
+        options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
+        options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 2 * 4 * nc + 100;
+        Resolution res = resolveWithFriction(ioBodies, inNodes, options, mSolver);
+        if (res.status != LcpStatus::solved) {
+            ++mStats.failedIslands;
+            options.lcp.warmBasis = nullptr;
+            options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 10 * nc + 1000;
+            res = resolveCollisions(ioBodies, inNodes, options, mSolver);
+        }
+        mStats.pivots += res.pivots;
+        mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, res.pivots);
+        mStats.work += res.work;
+        mStats.maxResidual = std::max(mStats.maxResidual, res.residual);
+        return res;
+    };
+    const std::vector<Body2> before = split ? rb : std::vector<Body2>{};
+    Resolution r = solve(rb, nodes, &warm);
     if (!warm.empty()) ++mStats.warmStartedIslands;
+    if (split && r.status == LcpStatus::solved) {
+        // The position solve (see the bias comment above), warm-started from the velocity solve's basis.
+        std::vector<Body2> moved = before;
+        for (int ci = 0; ci < nc; ++ci) nodes[std::size_t(ci)].bias = positionBias[std::size_t(ci)];
+        const Resolution rp = solve(moved, nodes, &r.basis);
+        if (rp.status == LcpStatus::solved) {
+            for (int kk = 0; kk < int(local.size()); ++kk) {
+                const int d = local[std::size_t(kk)];
+                if (cold[std::size_t(d)].type != BodyType::dynamicBody) continue;
+                mMove[std::size_t(d)] = {moved[std::size_t(kk)].velocity, moved[std::size_t(kk)].angularVelocity, true};
+            }
+        }
+    }
     if (r.status != LcpStatus::solved) return;  // no impulse at all this step: counted above
     for (int ci = 0; ci < nc; ++ci) {
         Contact& c = contacts[std::size_t(contactIdx[std::size_t(ci)])];
@@ -347,6 +383,7 @@ void World2::step() {
     const Islands islands = buildIslands(nb, joins, edges);
     mStats.islands = islands.count();
     // 5-7. Per island: wake or skip, solve, integrate, sleep.
+    mMove.assign(std::size_t(nb), Move{});
     std::vector<CacheEntry> newCache;
     std::vector<int> ibodies, icontacts;
     for (int isl = 0; isl < islands.count(); ++isl) {
@@ -374,8 +411,9 @@ void World2::step() {
         for (int d : ibodies) {
             BodyState2& s = hot[std::size_t(d)];
             BodyInfo2& info = cold[std::size_t(d)];
-            s.center = s.center + dt * s.velocity;
-            s.rotation = integrateRotation(s.rotation, dt * s.angularVelocity);
+            const Move& move = mMove[std::size_t(d)];
+            s.center = s.center + dt * (move.set ? move.velocity : s.velocity);
+            s.rotation = integrateRotation(s.rotation, dt * (move.set ? move.angularVelocity : s.angularVelocity));
             s.position = s.center - rotate(s.rotation, info.localCenter);
             const bool slow = dot(s.velocity, s.velocity) <= mDef.linearSleepTolerance * mDef.linearSleepTolerance &&
                               std::fabs(s.angularVelocity) <= mDef.angularSleepTolerance;

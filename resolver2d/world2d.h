@@ -159,6 +159,14 @@ private:
     std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouching;  // sorted (slot pairs) touching last step
     std::vector<ContactEvent2> mBegin, mEnd;
     std::vector<int> mLocalIndex;            // dense body -> index in the island being solved (-1 outside)
+    /// How a body's position moves this step when it differs from its velocity (an island with a bounce, see
+    /// solveIsland): dense index -> velocities to integrate positions with. Reset every step; never hashed.
+    struct Move {
+        Vec2 velocity;
+        double angularVelocity = 0.0;
+        bool set = false;
+    };
+    std::vector<Move> mMove;
     StepStats2 mStats;
     std::uint64_t mStepCount = 0;
 };

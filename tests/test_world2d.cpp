@@ -28,6 +28,18 @@ Shape2 groundShape() {
     return s;
 }
 
+// Adds the ground and a 1 m box (density 1) at (0, y) with restitution e; returns the box.
+BodyId addGroundAndBox(World2& world, double y, double e = 0.0) {
+    BodyDef2 g;
+    g.type = BodyType::staticBody;
+    world.createBody(g, {groundShape()});
+    BodyDef2 def;
+    def.position = {0.0, y};
+    Shape2 box = boxShape(0.5, 0.5);
+    box.restitution = e;
+    return world.createBody(def, {box});
+}
+
 }  // namespace
 
 TEST_SUITE("world2d") {
@@ -51,12 +63,7 @@ TEST_CASE("free fall follows semi-implicit Euler exactly") {
 
 TEST_CASE("a box dropped on the ground comes to rest on it, and sleeps") {
     World2 world;
-    BodyDef2 g;
-    g.type = BodyType::staticBody;
-    world.createBody(g, {groundShape()});
-    BodyDef2 def;
-    def.position = {0.0, 2.0};
-    const BodyId box = world.createBody(def, {boxShape(0.5, 0.5)});
+    const BodyId box = addGroundAndBox(world, 2.0);
     for (int i = 0; i < 240; ++i) world.step();
     const BodyState2* s = world.state(box);
     CHECK(s->position.y == doctest::Approx(0.5).epsilon(0.02));
@@ -75,14 +82,16 @@ TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form")
         CHECK(loaded.world->state(loaded.bodies[std::size_t(k)])->velocity.x == doctest::Approx(v * (1.0 + e) / n).epsilon(1e-9));
 }
 
-TEST_CASE("restitution row: rebound apex is e^2 h, up to the one-step early-bounce allowance") {
-    // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact that
-    // closes within the step at its start, so the apex may exceed e^2 h by up to (1 + e) v dt, never more, and
-    // must not fall short of it (beyond 2 % of h). e = 0 must not bounce at all.
+TEST_CASE("restitution row: rebound apex is e^2 h within 3 %") {
+    // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact at its
+    // time of impact inside the step (World2::solveIsland), so what remains is the semi-implicit Euler
+    // discretisation of the two flights: measured +0.6 % at e = 1 to +2.2 % at e = 1/6 (Box2D 2.4.1: +0.5 % to
+    // +1.2 %; tests/test_box2d_validation.cpp). Before that fix the apex was up to (1 + e) v dt high (+64 % at
+    // e = 1/6). e = 0 must not bounce at all.
     const auto scene = scenes::readSceneFile(scenes::sceneDir() + "/restitution_row.json");
     auto loaded = scenes::loadScene2(scene, "restitution_row.json");
     World2& world = *loaded.world;
-    const double h = 4.5, dt = 1.0 / 60.0, vImpact = std::sqrt(2.0 * 10.0 * h);
+    const double h = 4.5;
     std::vector<double> apex(8, -1.0), prevVy(8, -1.0);
     std::vector<int> bounces(8, 0);
     for (int step = 0; step < 400; ++step) {
@@ -101,9 +110,32 @@ TEST_CASE("restitution row: rebound apex is e^2 h, up to the one-step early-boun
         const double e = (k - 1) / 6.0;
         CAPTURE(e);
         const double rise = apex[std::size_t(k)] - 0.5;
-        CHECK(rise >= e * e * h - 0.02 * h);
-        CHECK(rise <= e * e * h + (1.0 + e) * vImpact * dt);
+        CHECK(std::fabs(rise - e * e * h) <= 0.03 * e * e * h);
     }
+}
+
+TEST_CASE("a box with e = 1 landing flat keeps its energy from bounce to bounce") {
+    // A 1 m box (mass 1) dropped flat from y = 5 with e = 1 onto the ground: both corners bounce together. Its
+    // energy at every apex (5 in 10 s) must stay within 1 % of the 50 J it started with (the 1 % covers the semi-implicit
+    // Euler energy of a step-end sample, about m g^2 dt^2 n / 2). Before bounces were placed at the time of
+    // impact, every bounce added about 3 % (51.6, 53.2, ... 61.7 J over 7 bounces).
+    World2 world;
+    const BodyId id = addGroundAndBox(world, 5.0, 1.0);
+    int apexes = 0;
+    double prevVy = 0.0;
+    for (int i = 0; i < 600; ++i) {
+        world.step();
+        const BodyState2* s = world.state(id);
+        if (prevVy > 0.0 && s->velocity.y <= 0.0) {
+            const double energy = 0.5 * dot(s->velocity, s->velocity) + 0.5 * world.info(id)->inertia * s->angularVelocity *
+                                  s->angularVelocity + 10.0 * s->center.y;
+            CAPTURE(apexes);
+            CHECK(std::fabs(energy - 50.0) <= 0.5);
+            ++apexes;
+        }
+        prevVy = s->velocity.y;
+    }
+    CHECK(apexes >= 5);  // one flight every 1.9 s
 }
 
 TEST_CASE("invalid bodies are rejected with a message and the world is unchanged") {
