@@ -247,9 +247,13 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
     CHECK(report["compared_snapshot_tick"] == 8);
     CHECK(report["differences"].size() > 0);
     CHECK(d.err.find("desync at tick 6") != std::string::npos);
-    // The hash of `run` at step 5 is the hash of the snapshot written there.
+    // `run` and `record` (without inputs) hash the same state.
     const Run s5 = unison("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
     REQUIRE(s5.exitCode == 0);
+    const Run r5 = unison("record " + scene + " --steps 5 -o " + rec);
+    REQUIRE(r5.exitCode == 0);
+    CHECK(nlohmann::json::parse(r5.out)["final_hash"] ==
+          nlohmann::json::parse(s5.out)["hash"]);  // one line: the final object
     REQUIRE(unison("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
     CHECK(unison("diff " + a + " " + a).exitCode == 0);
     const Run df = unison("diff " + a + " " + b);
