@@ -287,6 +287,10 @@ void World2::transferState(Io& io, Self& world) {
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
         if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
+        // Ranges the solver can run with (a pivot tolerance >= 1 leaves no admissible pivot and crashed Lemke).
+        if (def.lcp.maxPivots < 0 || !(def.lcp.pivotTolerance >= 0.0 && def.lcp.pivotTolerance < 1.0) ||
+            def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0)
+            io.fail("def.lcp: options out of range");
     }
     io.u64("stepCount", world.mStepCount);
 

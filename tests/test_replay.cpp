@@ -340,6 +340,42 @@ TEST_CASE("corrupt, truncated or mismatched snapshots are rejected and the live 
     CHECK(live.world->stateHash() == other.world->stateHash());
 }
 
+TEST_CASE("flipped payload bytes behind a valid checksum: rejected, or read back exactly as written") {
+    scenes::LoadedScene2 pile = scenes::loadScene2(golden("mixed_pile").scene, "pile");
+    for (int t = 0; t < 40; ++t) pile.world->step();
+    const std::vector<std::uint8_t> good = pile.world->snapshot();
+    const std::vector<std::uint8_t> payload(good.begin() + kSnapshotHeaderSize, good.end() - 8);
+    const std::uint64_t n = std::uint64_t(pile.world->bodyCount());
+    std::uint64_t lcg = 12345;  // fixed sequence: the same positions on every run
+    int accepted = 0, rejected = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        lcg = lcg * 6364136223846793005ull + 1442695040888963407ull;
+        std::vector<std::uint8_t> bad = payload;
+        const std::size_t at = std::size_t((lcg >> 33) % bad.size());
+        bad[at] ^= std::uint8_t(1u << ((lcg >> 20) & 7u));
+        const std::vector<std::uint8_t> bytes = frameSnapshot(SnapshotKind::world2, n, bad);
+        World2 w;
+        std::string error;
+        if (w.restore(bytes.data(), bytes.size(), &error)) {
+            ++accepted;
+            CHECK(w.snapshot() == bytes);  // every field read is kept bit for bit
+        } else {
+            ++rejected;
+            CHECK(error.find("snapshot rejected") == 0);
+            CHECK(w.bodyCount() == 0);
+        }
+    }
+    MESSAGE("flipped payload bits: " << accepted << " accepted (a changed value), " << rejected << " rejected");
+    CHECK(rejected > 0);
+    // Settings the solver cannot run with are rejected too (a pivot tolerance >= 1 crashed Lemke).
+    WorldDef2 def;
+    def.lcp.pivotTolerance = 1.0;
+    const std::vector<std::uint8_t> badDef = World2(def).snapshot();
+    std::string error;
+    CHECK_FALSE(World2().restore(badDef.data(), badDef.size(), &error));
+    CHECK(error.find("def.lcp") != std::string::npos);
+}
+
 TEST_CASE("snapshot files: atomic write, read back, diff; recordings: corrupt files are rejected") {
     scenes::LoadedScene2 a = scenes::loadScene2(golden("cradle").scene, "cradle");
     for (int t = 0; t < 10; ++t) a.world->step();
