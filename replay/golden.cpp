@@ -33,4 +33,19 @@ std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene) {
     return hashes;
 }
 
+int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes) {
+    scenes::LoadedScene2 loaded = scenes::loadScene2(scene.scene, scene.name);
+    const int k = scene.steps / 3;
+    for (int t = 1; t <= k; ++t) loaded.world->step();
+    const std::vector<std::uint8_t> snap = loaded.world->snapshot();
+    loaded.world.reset();
+    World2 fresh;
+    if (!fresh.restore(snap.data(), snap.size())) return k;
+    for (int t = k; t <= scene.steps; ++t) {
+        if (t > k) fresh.step();
+        if (std::size_t(t) >= hashes.size() || fresh.stateHash() != hashes[std::size_t(t)]) return t;
+    }
+    return -1;
+}
+
 }  // namespace unison::replay

@@ -28,4 +28,8 @@ std::uint64_t chainHash(const std::vector<std::uint64_t>& hashes);
 /// Steps a golden scene and returns the state hash after every tick: (steps + 1) values, [0] before the first step.
 std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene);
 
+/// Snapshots a golden scene at tick steps/3, restores it into a fresh world, steps that one to the end and returns
+/// the first tick whose hash differs from `hashes` (goldenHashes' result), or -1 when every tick matches.
+int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes);
+
 }  // namespace unison::replay

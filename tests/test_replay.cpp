@@ -92,6 +92,10 @@ TEST_CASE("golden scenes: the hash after every tick matches the golden table") {
         CHECK(hexHash(chain) == hexHash(g.chainHash));
         // A second world steps to the same bits.
         CHECK(goldenHashes(scene) == hashes);
+        CHECK(firstRestoreMismatch(scene, hashes) == -1);  // what unison_golden checks in every build
+        std::vector<std::uint64_t> tampered = hashes;
+        tampered[std::size_t(g.steps) - 1] ^= 1u;
+        CHECK(firstRestoreMismatch(scene, tampered) == g.steps - 1);
     }
 }
 
