@@ -14,7 +14,7 @@
 #include "world2d.h"
 
 #include <cmath>
-#include <type_traits>
+#include <cstring>
 
 namespace unison {
 
