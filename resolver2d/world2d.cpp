@@ -12,11 +12,8 @@
 #include "island.h"
 #include "resolver2d.h"
 
-#include <xxhash.h>
-
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace unison {
 
@@ -464,52 +461,6 @@ void World2::step() {
     for (const auto& p : diff) mEnd.push_back({idOf(p.first), idOf(p.second)});
     mTouching.swap(touching);
     ++mStepCount;
-}
-
-std::uint64_t World2::stateHash() const {
-    // Canonical serialisation: fixed-width little-endian fields appended one by one (never raw structs).
-    std::vector<unsigned char> buf;
-    auto u64 = [&](std::uint64_t v) {
-        for (int i = 0; i < 8; ++i) buf.push_back(static_cast<unsigned char>(v >> (8 * i)));
-    };
-    auto f64 = [&](double v) {
-        std::uint64_t bits;
-        std::memcpy(&bits, &v, sizeof bits);
-        u64(bits);
-    };
-    u64(mStepCount);
-    u64(std::uint64_t(mBodies.size()));
-    for (int d = 0; d < mBodies.size(); ++d) {
-        const BodyId id = mBodies.idAt(d);
-        const BodyState2& s = mBodies.hotArray()[std::size_t(d)];
-        const BodyInfo2& info = mBodies.coldArray()[std::size_t(d)];
-        u64(id.index1);
-        u64(id.generation);
-        u64(std::uint64_t(info.type));
-        u64(info.awake ? 1u : 0u);
-        for (double v : {s.position.x, s.position.y, s.rotation.c, s.rotation.s, s.center.x, s.center.y, s.velocity.x,
-                         s.velocity.y, s.angularVelocity, info.sleepTime})
-            f64(v);
-    }
-    for (const auto& slot : mBodies.slots()) {
-        u64(slot.generation);
-        u64(std::uint64_t(std::int64_t(slot.dense)));
-    }
-    for (std::uint32_t f : mBodies.freeList()) u64(f);
-    u64(mCache.size());
-    for (const CacheEntry& e : mCache) {
-        u64(e.slotA);
-        u64(e.slotB);
-        u64(e.shapeA);
-        u64(e.shapeB);
-        u64(e.feature);
-        u64(e.basicMask);
-    }
-    for (const auto& p : mTouching) {
-        u64(p.first);
-        u64(p.second);
-    }
-    return XXH3_64bits(buf.data(), buf.size());
 }
 
 }  // namespace unison

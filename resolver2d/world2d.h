@@ -15,7 +15,9 @@
 #include "dim2.h"
 #include "lcp.h"
 #include "shapes2d.h"
+#include "state_io.h"
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -130,8 +132,20 @@ public:
     const StepStats2& stats() const { return mStats; }
     std::uint64_t stepCount() const { return mStepCount; }
 
-    /// 64-bit hash (XXH3) of a canonical, field-by-field serialisation of the simulation state.
+    /// 64-bit hash (XXH3) of the canonical serialisation of everything that affects the future: settings, step
+    /// count, bodies (ids, transforms, velocities, mass, shapes, sleep state and timers), id pools, warm-start
+    /// cache, touching pairs. It is the hash of snapshot()'s payload (resolver2d/world2d_state.cpp).
     std::uint64_t stateHash() const;
+    /// The whole state in the versioned snapshot container of core/state_io.h. restore() of it into any World2
+    /// (of any build with the same result-affecting flags) continues bit-identically.
+    std::vector<std::uint8_t> snapshot() const;
+    /// Replaces this world's state with a snapshot. The data is parsed and checked into a fresh world first; on any
+    /// problem (truncated, corrupt, other version or build flags, inconsistent ids) it returns false with a reason
+    /// in *error and this world is untouched. The last step's contacts, events and statistics are not part of the
+    /// state: they are empty after a restore until the next step.
+    bool restore(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
+    /// The canonical state as named fields (same order and values as the hash), for diffs and desync reports.
+    std::vector<StateField> stateFields() const;
 
     /// One entry of the warm-start cache: a contact (body slots, shape indices, feature id) and which of its LCP
     /// unknowns were basic at the end of the previous step (bit 0: normal, bits 1-2: tangents, bit 3: slack).
@@ -150,6 +164,10 @@ private:
     void solveIsland(const std::vector<int>& bodies, const std::vector<int>& contactIdx, std::vector<Contact>& contacts,
                      std::vector<CacheEntry>& newCache);
     void updateBodyCenter(BodyState2& s, const BodyInfo2& info) const;
+    // The one canonical serialiser (world2d_state.cpp): writes the state of a const World2 into a sink, or reads it
+    // into a non-const one.
+    template <class Io, class Self>
+    static void transferState(Io& io, Self& world);
 
     WorldDef2 mDef;
     BodyStore<BodyState2, BodyInfo2> mBodies;

@@ -42,9 +42,31 @@ CommandOutput runLcp(const Lcp& lcp, int maxPivots);
 /// `unison resolve`: the paper's resolver on one JSON problem (DESIGN.md); exit 0 only if solved.
 CommandOutput runResolve(const nlohmann::json& input, const std::string& what);
 
+/// Optional snapshot of `unison run`: after step `at` (0: the loaded scene; -1: none) write World2::snapshot() to
+/// `path` (atomically).
+struct RunSnapshot {
+    int at = -1;
+    std::string path;
+};
+
 /// `unison run`: steps a scene, printing {"step", "hash"} every `hashEvery` steps (0: never) and a final JSON
 /// object with every body's state and the step statistics to `out`. Returns 0, or 1 when some island's LCP
 /// failed during the run. Bad scenes throw InputError.
-int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out);
+int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
+             const RunSnapshot& snapshot = {});
+
+/// `unison record SCENE --inputs INPUTS --steps N -o OUT [--snapshot-every K]`: records a match (replay/recording.h)
+/// and prints {"steps", "final_hash", "snapshots", "bytes"}. Returns 0; bad input throws InputError.
+int recordCommand(const std::string& sceneFile, const std::string& inputsFile, int steps, int snapshotEvery,
+                  const std::string& outFile, std::ostream& out);
+
+/// `unison verify REC [--inputs FILE]`: replays a recording (with its own inputs, or with FILE's instead, to see
+/// where an input change makes a match diverge) and prints its report (replay::reportToJson). Returns 0 when every
+/// tick matches, 1 on a desync (a one-line summary also goes to `err`); a bad file throws InputError.
+int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err);
+
+/// `unison diff A B`: prints {"equal", "differing_fields", "differences": [{"body", "field", "a", "b"}]} for two
+/// snapshot files. Returns 0 when equal, 1 when they differ; a bad file throws InputError.
+int diffCommand(const std::string& fileA, const std::string& fileB, std::ostream& out);
 
 }  // namespace unison::cli

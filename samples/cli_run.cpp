@@ -2,6 +2,7 @@
 // {"step", "hash"} lines every K steps, then one JSON object with every body's final state and step statistics.
 #include "cli.h"
 #include "scene_json.h"
+#include "snapshot_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -9,9 +10,12 @@
 
 namespace unison::cli {
 
-int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out) {
+int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
+             const RunSnapshot& snapshot) {
+    if (snapshot.at > steps) throw InputError("--snapshot-at " + std::to_string(snapshot.at) + " is after the last step");
     scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
+    if (snapshot.at == 0) replay::writeFileAtomic(snapshot.path, world.snapshot());
     int totalPivots = 0, maxIslandPivots = 0, failed = 0;
     double maxResidual = 0.0, maxPenetration = 0.0;
     for (int s = 1; s <= steps; ++s) {
@@ -22,6 +26,7 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
         failed += st.failedIslands;
         maxResidual = std::max(maxResidual, st.maxResidual);
         maxPenetration = std::max(maxPenetration, st.maxPenetration);
+        if (s == snapshot.at) replay::writeFileAtomic(snapshot.path, world.snapshot());
         if (hashEvery > 0 && s % hashEvery == 0) {
             char hex[17];
             std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(world.stateHash()));

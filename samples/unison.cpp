@@ -30,6 +30,32 @@ int main(int argc, char** argv) {
     run->add_option("--steps", steps, "number of steps (default 60)")->check(CLI::NonNegativeNumber);
     run->add_option("--hash-every", hashEvery, "print {\"step\", \"hash\"} every K steps (0: never)")
         ->check(CLI::NonNegativeNumber);
+    int snapshotAt = -1;
+    std::string snapshotOut;
+    run->add_option("--snapshot-at", snapshotAt, "write a snapshot after step T (0: the loaded scene) to -o FILE")
+        ->check(CLI::NonNegativeNumber);
+    run->add_option("-o,--output", snapshotOut, "snapshot file (.usnap) for --snapshot-at");
+
+    std::string inputsFile, recordOut;
+    int recordSteps = 60, snapshotEvery = 30;
+    auto* record = app.add_subcommand("record", "record a 2D scene with per-tick inputs: hashes and snapshots");
+    record->add_option("SCENE", sceneFile, "scene JSON file")->required();
+    record->add_option("--inputs", inputsFile, "inputs JSON file (README \"Inputs JSON\"); none if omitted");
+    record->add_option("--steps", recordSteps, "number of ticks (default 60)")->check(CLI::NonNegativeNumber);
+    record->add_option("--snapshot-every", snapshotEvery, "full snapshot every K ticks (default 30)")
+        ->check(CLI::PositiveNumber);
+    record->add_option("-o,--output", recordOut, "recording file (.urec)")->required();
+
+    std::string verifyFile;
+    auto* verify = app.add_subcommand("verify", "replay a recording; exit 0 if every tick's hash matches");
+    verify->add_option("RECORDING", verifyFile, "recording file (.urec)")->required();
+    std::string verifyInputs;
+    verify->add_option("--inputs", verifyInputs, "replay with these inputs instead of the recorded ones");
+
+    std::string diffA, diffB;
+    auto* diff = app.add_subcommand("diff", "list the fields that differ between two snapshot files");
+    diff->add_option("A", diffA, "snapshot file (.usnap)")->required();
+    diff->add_option("B", diffB, "snapshot file (.usnap)")->required();
 
     try {
         app.parse(argc, argv);
@@ -43,7 +69,14 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
-        if (*run) return runScene(parseJson(readFile(sceneFile), sceneFile), sceneFile, steps, hashEvery, std::cout);
+        if (*run) {
+            if ((snapshotAt >= 0) != !snapshotOut.empty()) throw InputError("--snapshot-at and -o go together");
+            return runScene(parseJson(readFile(sceneFile), sceneFile), sceneFile, steps, hashEvery, std::cout,
+                            RunSnapshot{snapshotAt, snapshotOut});
+        }
+        if (*record) return recordCommand(sceneFile, inputsFile, recordSteps, snapshotEvery, recordOut, std::cout);
+        if (*verify) return verifyCommand(verifyFile, verifyInputs, std::cout, std::cerr);
+        if (*diff) return diffCommand(diffA, diffB, std::cout);
         CommandOutput out;
         if (*lcp) {
             out = runLcp(parseLcpText(readFile(lcpFile), lcpFile), maxPivots);

@@ -65,6 +65,29 @@ Shape2 readShape(const json& js, const std::string& path) {
 
 }  // namespace
 
+BodySpec2 readBody2(const json& jb, const std::string& path) {
+    BodySpec2 spec;
+    BodyDef2& bd = spec.def;
+    std::string type = "dynamic";
+    if (const json* t = member(jb, path, "type", false)) {
+        if (!t->is_string()) fail(path + ".type", "expected a string");
+        type = t->get<std::string>();
+    }
+    if (type == "static") bd.type = BodyType::staticBody;
+    else if (type == "kinematic") bd.type = BodyType::kinematicBody;
+    else if (type == "dynamic") bd.type = BodyType::dynamicBody;
+    else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
+    bd.position = vecOr(jb, path, "position", {});
+    bd.angle = numberOr(jb, path, "angle", 0.0);
+    bd.linearVelocity = vecOr(jb, path, "linear_velocity", {});
+    bd.angularVelocity = numberOr(jb, path, "angular_velocity", 0.0);
+    if (const json* js = member(jb, path, "shapes", false)) {
+        if (!js->is_array()) fail(path + ".shapes", "expected an array");
+        for (std::size_t k = 0; k < js->size(); ++k) spec.shapes.push_back(readShape((*js)[k], path + ".shapes[" + std::to_string(k) + "]"));
+    }
+    return spec;
+}
+
 LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldDef2& base) {
     const json* dim = member(scene, what, "dimension", true);
     if (!dim->is_number_integer()) fail(what + ".dimension", "expected 2 or 3");
@@ -84,28 +107,9 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
     if (!bodies->is_array()) fail(what + ".bodies", "expected an array");
     for (std::size_t i = 0; i < bodies->size(); ++i) {
         const std::string path = what + ".bodies[" + std::to_string(i) + "]";
-        const json& jb = (*bodies)[i];
-        BodyDef2 bd;
-        std::string type = "dynamic";
-        if (const json* t = member(jb, path, "type", false)) {
-            if (!t->is_string()) fail(path + ".type", "expected a string");
-            type = t->get<std::string>();
-        }
-        if (type == "static") bd.type = BodyType::staticBody;
-        else if (type == "kinematic") bd.type = BodyType::kinematicBody;
-        else if (type == "dynamic") bd.type = BodyType::dynamicBody;
-        else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
-        bd.position = vecOr(jb, path, "position", {});
-        bd.angle = numberOr(jb, path, "angle", 0.0);
-        bd.linearVelocity = vecOr(jb, path, "linear_velocity", {});
-        bd.angularVelocity = numberOr(jb, path, "angular_velocity", 0.0);
-        std::vector<Shape2> shapes;
-        if (const json* js = member(jb, path, "shapes", false)) {
-            if (!js->is_array()) fail(path + ".shapes", "expected an array");
-            for (std::size_t k = 0; k < js->size(); ++k) shapes.push_back(readShape((*js)[k], path + ".shapes[" + std::to_string(k) + "]"));
-        }
+        const BodySpec2 spec = readBody2((*bodies)[i], path);
         std::string error;
-        const BodyId id = out.world->createBody(bd, shapes, &error);
+        const BodyId id = out.world->createBody(spec.def, spec.shapes, &error);
         if (id.isNull()) fail(path, error);
         out.bodies.push_back(id);
     }

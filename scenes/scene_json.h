@@ -24,6 +24,16 @@ struct LoadedScene2 {
     std::vector<BodyId> bodies;
 };
 
+/// One body of a scene: how to create it and its shapes.
+struct BodySpec2 {
+    BodyDef2 def;
+    std::vector<Shape2> shapes;
+};
+
+/// Reads one scene body object ({"type", "position", "angle", "linear_velocity", "angular_velocity", "shapes"});
+/// `path` names it in messages. Throws SceneError. (Also used by replay/ inputs that create bodies.)
+BodySpec2 readBody2(const nlohmann::json& body, const std::string& path);
+
 /// Builds a 2D world from scene JSON (`what` names the source in messages). Throws SceneError.
 LoadedScene2 loadScene2(const nlohmann::json& scene, const std::string& what, const WorldDef2& base = {});
 

@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
 # Installs every build, test and benchmark dependency of Unison from Debian packages.
 # Safe to run again: apt-get skips what is already installed.
+# Usage: scripts/setup.sh [--determinism]   (--determinism adds clang, the aarch64 cross compiler and qemu-user for
+# scripts/determinism.sh)
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
           libsiconos-numerics-dev)
+if [ "${1:-}" = "--determinism" ]; then
+  packages+=(clang g++-aarch64-linux-gnu qemu-user)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

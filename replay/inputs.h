@@ -1,0 +1,69 @@
+// replay/inputs.h — the per-tick inputs of a recorded match (README "Inputs JSON") and the session that applies
+// them to a 2D world, tick by tick, identically when recording and when verifying.
+//
+// Owns: InputAction (one input), InputScript (all inputs of a match, ordered by tick, file order within a tick),
+// their JSON form, and Session2 (a world loaded from a scene plus the table of body numbers the inputs use).
+// Body numbers: the scene's bodies are 0..n-1 in file order; each create_body input appends the next number.
+// A number keeps naming its body after other bodies are destroyed; naming a destroyed body is an error.
+// Tick t means: apply the inputs of tick t, then step once; hash t is the state hash after that step (t >= 1).
+#pragma once
+
+#include "scene_json.h"
+#include "world2d.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace unison::replay {
+
+/// Bad input of any replay file or command (exit code 2); what() says which file, key or tick.
+using ReplayError = jsonio::JsonError;
+
+enum class InputType { applyImpulse, applyForce, setVelocity, createBody, destroyBody, setGravity };
+
+/// One input, applied before the step of its tick.
+struct InputAction {
+    int tick = 1;                 ///< >= 1
+    InputType type = InputType::applyImpulse;
+    int body = -1;                ///< body number (apply_*, set_velocity, destroy_body)
+    Vec2 vector;                  ///< impulse (N s), force (N), linear velocity (m/s) or gravity (m/s^2)
+    bool hasPoint = false;        ///< apply_*: world point given (else the centre of mass)
+    Vec2 point;                   ///< apply_*: world point (m)
+    double angularVelocity = 0.0; ///< set_velocity (rad/s)
+    nlohmann::json bodyDef;       ///< create_body: a scene body object
+};
+
+/// Every input of a match, sorted by tick (stable: file order within a tick).
+struct InputScript {
+    std::vector<InputAction> actions;
+};
+
+/// Parses {"inputs": [{"tick", "type", ...}]} (README "Inputs JSON"); `what` names the source. Throws ReplayError.
+InputScript parseInputs(const nlohmann::json& js, const std::string& what);
+/// The JSON form parseInputs reads (numbers written with round-trip precision).
+nlohmann::json inputsToJson(const InputScript& script);
+
+/// A scene being stepped with inputs: what record and verify both run.
+class Session2 {
+public:
+    /// Loads the scene. Throws ReplayError on a bad scene.
+    Session2(const nlohmann::json& scene, const std::string& what);
+    /// Applies the inputs of tick `tick` (script.actions[next..] with that tick), then steps. Throws ReplayError
+    /// when an input cannot be applied (unknown or destroyed body, static body, bad body definition).
+    void tick(int tick, const InputScript& script);
+    World2& world() { return *mWorld; }
+    const World2& world() const { return *mWorld; }
+    /// Body number of a live id, or -1.
+    int bodyNumber(BodyId id) const;
+
+private:
+    void apply(const InputAction& a, std::size_t index);
+    BodyId bodyOf(const InputAction& a, std::size_t index) const;
+    std::unique_ptr<World2> mWorld;
+    std::vector<BodyId> mBodies;  // body number -> id (stale once destroyed)
+    std::size_t mNext = 0;        // first action not yet applied
+};
+
+}  // namespace unison::replay

@@ -1,0 +1,73 @@
+// replay/snapshot_file.cpp — atomic snapshot files and snapshot diffs (see snapshot_file.h).
+#include "snapshot_file.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace unison::replay {
+
+void writeFileAtomic(const std::string& path, const std::vector<std::uint8_t>& bytes) {
+    const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+    auto fail = [&](const char* what) {
+        const std::string why = std::strerror(errno);
+        std::remove(tmp.c_str());
+        throw ReplayError(path + ": cannot write (" + what + ": " + why + ")");
+    };
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) fail("open");
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            ::close(fd);
+            fail("write");
+        }
+        done += std::size_t(n);
+    }
+    if (::fsync(fd) != 0) {
+        ::close(fd);
+        fail("fsync");
+    }
+    if (::close(fd) != 0) fail("close");
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename");
+}
+
+std::vector<std::uint8_t> readBinaryFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw ReplayError(path + ": cannot open file");
+    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw ReplayError(path + ": read error");
+    return bytes;
+}
+
+void restoreOrThrow(World2& world, const std::vector<std::uint8_t>& bytes, const std::string& what) {
+    std::string error;
+    if (!world.restore(bytes.data(), bytes.size(), &error)) throw ReplayError(what + ": " + error);
+}
+
+std::vector<FieldDifference> diffSnapshots(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
+                                           const std::string& whatA, const std::string& whatB) {
+    World2 wa, wb;
+    restoreOrThrow(wa, a, whatA);
+    restoreOrThrow(wb, b, whatB);
+    return diffFields(wa.stateFields(), wb.stateFields());
+}
+
+nlohmann::json differencesToJson(const std::vector<FieldDifference>& diffs, const char* nameA, const char* nameB,
+                                 std::size_t limit) {
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t i = 0; i < diffs.size() && i < limit; ++i) {
+        const FieldDifference& d = diffs[i];
+        out.push_back({{"body", describeBody(d.body)}, {"field", d.path}, {nameA, d.a}, {nameB, d.b}});
+    }
+    return out;
+}
+
+}  // namespace unison::replay
