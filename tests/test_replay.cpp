@@ -35,10 +35,10 @@ struct Golden {
     std::uint64_t chainHash;
 };
 const Golden kGolden[] = {
-    {"pyramid", 240, 0x09eb370f55488a51ull, 0x1f34e458673d25adull},
-    {"restitution_row", 240, 0x619ff658cb89d0c0ull, 0xffb5d9c43166deb5ull},
-    {"mixed_pile", 300, 0x8a078547a3fb44f8ull, 0x6b3547229acb2f3dull},
-    {"cradle", 120, 0x1f94177242b26c62ull, 0x07892bce5cd24eefull},
+    {"pyramid", 240, 0x32cce76ae5b874eeull, 0x4af248d2acf459fbull},
+    {"restitution_row", 240, 0xe029dba75f650eceull, 0xe9b22a50c081f733ull},
+    {"mixed_pile", 300, 0x696d830cc0552b6dull, 0x6aaed6fbb842110cull},
+    {"cradle", 120, 0x34e9398412f2730bull, 0xc5a29932962e066aull},
 };
 // ==================================================================================================================
 
