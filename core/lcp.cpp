@@ -198,6 +198,12 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         }
         ws.bMax = std::max(ws.bMax, std::fabs(b[i]));
     }
+    if (!(options.pivotTolerance >= 0.0 && options.pivotTolerance < 1.0) || !(options.residualTolerance >= 0.0) ||
+        !(options.degeneracyPerturbation >= 0.0 && options.degeneracyPerturbation <= 1e-2) || options.maxPivots < 0) {
+        result.message = "LCP options out of range: need 0 <= pivotTolerance < 1, residualTolerance >= 0, "
+                         "0 <= degeneracyPerturbation <= 1e-2, maxPivots >= 0";
+        return result;
+    }
     const int maxPivots = options.maxPivots > 0 ? options.maxPivots : LcpOptions::kDefaultMaxPivots;
     const double scale = std::max({ws.aMax, ws.bMax, kTiny});
     result.z.assign(nn, 0.0);

@@ -94,7 +94,15 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
     return id;
 }
 
-bool World2::destroyBody(BodyId id) { return mBodies.destroy(id); }
+bool World2::destroyBody(BodyId id) {
+    if (!mBodies.destroy(id)) return false;
+    // Warm-start entries are keyed by slot: drop the ones of this body, or a body created later in the same slot
+    // would inherit them.
+    mCache.erase(std::remove_if(mCache.begin(), mCache.end(),
+                                [&](const CacheEntry& e) { return e.slotA == id.index1 || e.slotB == id.index1; }),
+                 mCache.end());
+    return true;
+}
 
 const BodyState2* World2::state(BodyId id) const {
     const int d = mBodies.denseIndex(id);
@@ -282,16 +290,19 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
     options.restitutionThreshold = mDef.restitutionThreshold;
     options.frictionDirections = k;
     options.tangentDeadZone = mDef.tangentDeadZone;
+    options.acceptResidual = mDef.acceptResidual;
     options.lcp = mDef.lcp;
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
     // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
     // takes about n/2 pivots, so 2n + 100 bounds a bad one (n = 4 nc unknowns). WorldDef2::lcp.maxPivots
     // overrides both caps.
+    auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     auto solve = [&](std::vector<Body2>& ioBodies, const std::vector<Contact2>& inNodes, const std::vector<int>* inWarm) {
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
         options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 2 * 4 * nc + 100;
         Resolution res = resolveWithFriction(ioBodies, inNodes, options, mSolver);
-        if (res.status != LcpStatus::solved) {
+        if (res.approximate) ++mStats.approximateIslands;
+        if (!usable(res)) {
             ++mStats.failedIslands;
             options.lcp.warmBasis = nullptr;
             options.lcp.maxPivots = mDef.lcp.maxPivots > 0 ? mDef.lcp.maxPivots : 10 * nc + 1000;
@@ -301,17 +312,18 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
         mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, res.pivots);
         mStats.work += res.work;
         mStats.maxResidual = std::max(mStats.maxResidual, res.residual);
+        mStats.maxScaledResidual = std::max(mStats.maxScaledResidual, res.scaledResidual);
         return res;
     };
     const std::vector<Body2> before = split ? rb : std::vector<Body2>{};
     Resolution r = solve(rb, nodes, &warm);
     if (!warm.empty()) ++mStats.warmStartedIslands;
-    if (split && r.status == LcpStatus::solved) {
+    if (split && usable(r)) {
         // The position solve (see the bias comment above), warm-started from the velocity solve's basis.
         std::vector<Body2> moved = before;
         for (int ci = 0; ci < nc; ++ci) nodes[std::size_t(ci)].bias = positionBias[std::size_t(ci)];
         const Resolution rp = solve(moved, nodes, &r.basis);
-        if (rp.status == LcpStatus::solved) {
+        if (usable(rp)) {
             for (int kk = 0; kk < int(local.size()); ++kk) {
                 const int d = local[std::size_t(kk)];
                 if (cold[std::size_t(d)].type != BodyType::dynamicBody) continue;
@@ -319,7 +331,7 @@ void World2::solveIsland(const std::vector<int>& bodies, const std::vector<int>&
             }
         }
     }
-    if (r.status != LcpStatus::solved) return;  // no impulse at all this step: counted above
+    if (!usable(r)) return;  // no impulse at all this step: counted above
     for (int ci = 0; ci < nc; ++ci) {
         Contact& c = contacts[std::size_t(contactIdx[std::size_t(ci)])];
         c.normalImpulse = r.impulses[std::size_t(ci)];

@@ -49,6 +49,11 @@ struct WorldDef2 {
     double linearSleepTolerance = 0.01;  ///< m/s
     double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
     double timeToSleep = 0.5;            ///< s
+    /// A friction solve that ends `numerical_failure` (the answer of the solver's tie-breaking perturbation misses
+    /// the true problem by more than lcp.residualTolerance, and no continuation did better) is still used when its
+    /// scaled residual is at most this; only beyond it does the island fall back to the frictionless LCP.
+    /// StepStats2 counts such islands and reports the largest scaled residual.
+    double acceptResidual = 1e-6;
     LcpOptions lcp;                      ///< per-island solver options; maxPivots 0 = 2n + 100 per island LCP
 };
 
@@ -93,6 +98,8 @@ struct StepStats2 {
     std::uint64_t work = 0;
     double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
     int failedIslands = 0;            ///< islands whose friction LCP did not solve (the frictionless LCP was used)
+    int approximateIslands = 0;       ///< islands whose answer was accepted by WorldDef2::acceptResidual
+    double maxScaledResidual = 0.0;   ///< largest scaled residual (residual / max(|A|, |b|)) of any island's answer
     double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
 };
 

@@ -20,7 +20,7 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef2) == 152, "WorldDef2 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef2) == 160, "WorldDef2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field in transferState()");
@@ -274,6 +274,7 @@ void World2::transferState(Io& io, Self& world) {
     io.f64("maxCorrectionSpeed", def.maxCorrectionSpeed);
     io.f64("speculativeDistance", def.speculativeDistance);
     io.f64("tangentDeadZone", def.tangentDeadZone);
+    io.f64("acceptResidual", def.acceptResidual);
     boolean(io, "enableSleep", def.enableSleep);
     io.f64("linearSleepTolerance", def.linearSleepTolerance);
     io.f64("angularSleepTolerance", def.angularSleepTolerance);
@@ -289,7 +290,7 @@ void World2::transferState(Io& io, Self& world) {
         if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
         // Ranges the solver can run with (a pivot tolerance >= 1 leaves no admissible pivot and crashed Lemke).
         if (def.lcp.maxPivots < 0 || !(def.lcp.pivotTolerance >= 0.0 && def.lcp.pivotTolerance < 1.0) ||
-            def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0)
+            def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0 || !(def.acceptResidual >= 0.0))
             io.fail("def.lcp: options out of range");
     }
     io.u64("stepCount", world.mStepCount);

@@ -5,6 +5,7 @@
 #include "lcp.h"
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 
@@ -131,6 +132,27 @@ TEST_CASE("invalid input: NaN, infinity and size mismatch are reported, never so
     CHECK(s.solve(p).status == LcpStatus::invalid_input);
     CHECK(s.solve(-1, nullptr, nullptr).status == LcpStatus::invalid_input);
     CHECK(s.solve(Lcp(0)).status == LcpStatus::solved);
+}
+
+TEST_CASE("solver options out of range are invalid input, never a crash") {
+    Lcp p(2);
+    p.at(0, 0) = 2.0;
+    p.at(1, 1) = 2.0;
+    p.b = {-1.0, -1.0};
+    LemkeSolver solver;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int k = 0; k < 5; ++k) {
+        LcpOptions o;
+        if (k == 0) o.pivotTolerance = 1.0;
+        if (k == 1) o.pivotTolerance = -1e-9;
+        if (k == 2) o.residualTolerance = nan;
+        if (k == 3) o.degeneracyPerturbation = -1e-7;
+        if (k == 4) o.maxPivots = -1;
+        const LcpResult r = solver.solve(p, o);
+        CHECK(r.status == LcpStatus::invalid_input);
+        CHECK(r.message.find("options") != std::string::npos);
+    }
+    CHECK(solver.solve(p).status == LcpStatus::solved);
 }
 
 TEST_CASE("no solution: the secondary ray is reported as infeasible") {

@@ -35,10 +35,10 @@ struct Golden {
     std::uint64_t chainHash;
 };
 const Golden kGolden[] = {
-    {"pyramid", 240, 0x32cce76ae5b874eeull, 0x4af248d2acf459fbull},
-    {"restitution_row", 240, 0xe029dba75f650eceull, 0xe9b22a50c081f733ull},
-    {"mixed_pile", 300, 0x696d830cc0552b6dull, 0x6aaed6fbb842110cull},
-    {"cradle", 120, 0x34e9398412f2730bull, 0xc5a29932962e066aull},
+    {"pyramid", 240, 0xc9a5eb748d4bb969ull, 0x3b00404cd5c094b2ull},
+    {"restitution_row", 240, 0xc98c47d036c30a03ull, 0xf03637a6640832bbull},
+    {"mixed_pile", 300, 0xb8598359246441adull, 0x649bb59fcaf857e3ull},
+    {"cradle", 120, 0xc66da8ad96296b15ull, 0x48ca7025497361c8ull},
 };
 // ==================================================================================================================
 
