@@ -14,6 +14,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 namespace unison {
 namespace detail {
@@ -54,51 +55,57 @@ template <class D>
 class Coupling {
 public:
     Coupling(const std::vector<ResolverBody<D>>& bodies, const std::vector<JacobianRow<D>>& rows)
-        : mBodies(bodies), mRows(rows), mStart(bodies.size() + 1, 0) {
+        : mBodies(bodies), mStart(bodies.size() + 1, 0) {
         for (const auto& r : rows) {
             ++mStart[std::size_t(r.body[0]) + 1];
             ++mStart[std::size_t(r.body[1]) + 1];
         }
         for (std::size_t k = 0; k < bodies.size(); ++k) mStart[k + 1] += mStart[k];
         std::vector<int> fill(mStart.begin(), mStart.end() - 1);
-        const std::size_t entries = std::size_t(mStart.back());
-        mEntryRow.resize(entries);
-        mEntrySlot.resize(entries);
-        mInvIr.resize(entries);
+        mEntries.resize(std::size_t(mStart.back()));
         mRowEntry.resize(2 * rows.size());
         for (int i = 0; i < int(rows.size()); ++i) {
+            const JacobianRow<D>& r = rows[std::size_t(i)];
             for (int s = 0; s < 2; ++s) {
-                const int k = rows[std::size_t(i)].body[s];
+                const int k = r.body[s];
                 const std::size_t e = std::size_t(fill[std::size_t(k)]++);
-                mEntryRow[e] = i;
-                mEntrySlot[e] = s;
                 // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part in term().
-                mInvIr[e] = D::applyInvInertia(bodies[std::size_t(k)].invInertia, rows[std::size_t(i)].ang[s]);
+                mEntries[e] = {i, r.lin[s], r.ang[s], D::applyInvInertia(bodies[std::size_t(k)].invInertia, r.ang[s])};
                 mRowEntry[2 * std::size_t(i) + std::size_t(s)] = int(e);
             }
+        }
+        mBodyOf.resize(rows.size() * 2);
+        for (int i = 0; i < int(rows.size()); ++i) {
+            mBodyOf[2 * std::size_t(i)] = rows[std::size_t(i)].body[0];
+            mBodyOf[2 * std::size_t(i) + 1] = rows[std::size_t(i)].body[1];
         }
     }
 
     /// Appends row i's nonzero entries (columns ascending) to cols/vals.
     void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals) const {
-        const JacobianRow<D>& ri = mRows[std::size_t(i)];
-        const int a = ri.body[0], b = ri.body[1];
-        int pa = movable(a) ? mStart[std::size_t(a)] : 0, ea = movable(a) ? mStart[std::size_t(a) + 1] : 0;
-        int pb = movable(b) ? mStart[std::size_t(b)] : 0, eb = movable(b) ? mStart[std::size_t(b) + 1] : 0;
-        while (pa < ea || pb < eb) {
-            const int ja = pa < ea ? mEntryRow[std::size_t(pa)] : std::numeric_limits<int>::max();
-            const int jb = pb < eb ? mEntryRow[std::size_t(pb)] : std::numeric_limits<int>::max();
+        const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
+        const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
+        const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
+        const double ma = mBodies[std::size_t(a)].invMass, mb = mBodies[std::size_t(b)].invMass;
+        const Entry* pa = movable(a) ? &mEntries[std::size_t(mStart[std::size_t(a)])] : nullptr;
+        const Entry* ea = movable(a) ? &mEntries[0] + mStart[std::size_t(a) + 1] : nullptr;
+        const Entry* pb = movable(b) ? &mEntries[std::size_t(mStart[std::size_t(b)])] : nullptr;
+        const Entry* eb = movable(b) ? &mEntries[0] + mStart[std::size_t(b) + 1] : nullptr;
+        constexpr int kEnd = std::numeric_limits<int>::max();
+        while (pa != ea || pb != eb) {
+            const int ja = pa != ea ? pa->row : kEnd;
+            const int jb = pb != eb ? pb->row : kEnd;
             double v;
             int j;
             if (ja < jb) {
                 j = ja;
-                v = term(i, 0, pa++);
+                v = term(ma, ia, *pa++);
             } else if (jb < ja) {
                 j = jb;
-                v = term(i, 1, pb++);
+                v = term(mb, ib, *pb++);
             } else {
                 j = ja;
-                const double ta = term(i, 0, pa++), tb = term(i, 1, pb++);
+                const double ta = term(ma, ia, *pa++), tb = term(mb, ib, *pb++);
                 v = a < b ? ta + tb : tb + ta;
             }
             if (v != 0.0) {
@@ -113,31 +120,34 @@ public:
         for (std::size_t k = 0; k < mBodies.size(); ++k) {
             if (!movable(int(k))) continue;
             for (int p = mStart[k]; p < mStart[k + 1]; ++p) {
-                const int i = mEntryRow[std::size_t(p)];
+                const Entry& ei = mEntries[std::size_t(p)];
                 for (int q = mStart[k]; q < mStart[k + 1]; ++q)
-                    lcp.add(i, mEntryRow[std::size_t(q)], term(i, mEntrySlot[std::size_t(p)], q));
+                    lcp.add(ei.row, mEntries[std::size_t(q)].row, term(mBodies[k].invMass, ei, mEntries[std::size_t(q)]));
             }
         }
     }
 
 private:
+    // One row as seen by one of its bodies: its direction, r* l for that body, and I^-1 r* l.
+    struct Entry {
+        int row;
+        typename D::Vec lin;
+        typename D::Ang ang;
+        typename D::Ang invIr;
+    };
+
     // Infinite mass contributes nothing (the paper's dummy body).
     bool movable(int k) const { return !isImmovable(mBodies[std::size_t(k)]); }
 
-    // The contribution to A_ij of the body in slot si of row i, with row j being entry q of that body's list.
-    double term(int i, int si, int q) const {
-        const ResolverBody<D>& body = mBodies[std::size_t(mRows[std::size_t(i)].body[si])];
-        const JacobianRow<D>& ri = mRows[std::size_t(i)];
-        const JacobianRow<D>& rj = mRows[std::size_t(mEntryRow[std::size_t(q)])];
-        const int sj = mEntrySlot[std::size_t(q)];
-        const auto& invIri = mInvIr[std::size_t(mRowEntry[2 * std::size_t(i) + std::size_t(si)])];
-        return body.invMass * D::dot(ri.lin[si], rj.lin[sj]) + D::angDot(invIri, rj.ang[sj]);
+    // The contribution to A_ij of one body (inverse mass invMass) touched by both rows: ei is row i's entry in the
+    // body's list, ej row j's.
+    static double term(double invMass, const Entry& ei, const Entry& ej) {
+        return invMass * D::dot(ei.lin, ej.lin) + D::angDot(ei.invIr, ej.ang);
     }
 
     const std::vector<ResolverBody<D>>& mBodies;
-    const std::vector<JacobianRow<D>>& mRows;
-    std::vector<int> mStart, mEntryRow, mEntrySlot, mRowEntry;
-    std::vector<typename D::Ang> mInvIr;
+    std::vector<int> mStart, mRowEntry, mBodyOf;
+    std::vector<Entry> mEntries;
 };
 
 // Velocity of the contact point along `dir`, body A minus body B, eq. (2) and (4).
@@ -393,7 +403,7 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
     Resolution out;
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
-    const SparseLcp lcp = assembleCollisionLcpSparse(ioBodies, contacts, options);
+    SparseLcp lcp = assembleCollisionLcpSparse(ioBodies, contacts, options);
     if (lcp.n == 1) {
         // One point: one linear equation in one unknown (end of the paper's section 5), f = max(0, -b / A).
         out.fastPath = true;
@@ -411,7 +421,7 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
         }
         out.status = LcpStatus::solved;
     } else if (lcp.n > 1) {
-        LcpResult r = solver.solve(lcp, options.lcp);
+        LcpResult r = solver.solve(std::move(lcp), options.lcp);
         if (!detail::takeSolveReport(r, out, options)) return out;
         out.impulses = std::move(r.z);
     } else {
@@ -428,8 +438,8 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
     FrictionLayout layout;
-    const SparseLcp lcp = assembleFrictionLcpSparse(ioBodies, contacts, options, &layout);
-    LcpResult r = solver.solve(lcp, options.lcp);
+    SparseLcp lcp = assembleFrictionLcpSparse(ioBodies, contacts, options, &layout);
+    LcpResult r = solver.solve(std::move(lcp), options.lcp);
     if (!detail::takeSolveReport(r, out, options)) return out;
     const int nc = layout.contacts;
     const int k = layout.directions;

@@ -68,8 +68,15 @@ bool trySparseBasis(const LemkeSolver::Workspace& ws, const std::vector<int>& gu
     Eigen::VectorXd z = lu.solve(rhs);
     std::vector<double> w(static_cast<std::size_t>(n), 0.0);
     auto computeW = [&]() {
-        std::copy(ws.b, ws.b + n, w.begin());
-        for (int q = 0; q < k; ++q) ws.addColumn(guess[std::size_t(q)], z[q], w.data());
+        // By rows, adding in ascending column order: the same sums as adding the basic columns one by one.
+        for (int i = 0; i < n; ++i) {
+            double s = ws.b[i];
+            for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
+                const int q = pos[std::size_t(ws.rowCol[std::size_t(t)])];
+                if (q >= 0) s += ws.rowVal[std::size_t(t)] * z[q];
+            }
+            w[std::size_t(i)] = s;
+        }
     };
     computeW();
     Eigen::VectorXd r(k);  // one step of iterative refinement: w_alpha should be exactly 0
@@ -183,6 +190,20 @@ LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options
     return run(ws, problem.b.data(), options);
 }
 
+LcpResult LemkeSolver::solve(SparseLcp&& problem, const LcpOptions& options) {
+    LcpResult result;
+    if (problem.n < 0 || problem.b.size() != std::size_t(problem.n)) {
+        result.message = "LCP sizes do not match: b must have n entries";
+        return result;
+    }
+    Workspace& ws = workspace();
+    ws.n = problem.n;
+    result.message = ws.takeSparse(problem);
+    if (!result.message.empty()) return result;
+    ws.bStore.swap(problem.b);
+    return run(ws, ws.bStore.data(), options);
+}
+
 LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft) {
     LcpResult result;
     const int n = ws.n;
@@ -250,6 +271,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
         const bool inRange = guess.front() >= 0 && guess.back() < n;
         if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
+        ws.ensureColumns();
         if (inRange) {
             ws.m = int(guess.size());
             for (int q = 0; q < ws.m; ++q) {
@@ -274,6 +296,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         }
     }
     result.warmStarted = warm;
+    ws.ensureColumns();
 
     auto assembleSolution = [&]() {
         // Called when the block is complementary (rows == columns as index sets, no z0).

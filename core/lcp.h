@@ -136,6 +136,8 @@ public:
     LcpResult solve(int n, const double* A, const double* b, const LcpOptions& options = {});
     /// Same, on a compressed-row matrix. Gives bit-identical results to the dense call on the same matrix.
     LcpResult solve(const SparseLcp& problem, const LcpOptions& options = {});
+    /// Same, taking the problem's storage over instead of copying it (`problem` is left in an unspecified state).
+    LcpResult solve(SparseLcp&& problem, const LcpOptions& options = {});
 
     /// Per-solve state (defined in lcp.cpp); public only so that lcp.cpp's helpers can name it.
     struct Workspace;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,8 @@ struct LemkeSolver::Workspace {
     // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
     std::vector<int> colStart, colRow, rowStart, rowCol;
     std::vector<double> colVal, rowVal;
+    bool columnsReady = false;      // colStart/colRow/colVal match the rows (see ensureColumns)
+    std::vector<double> bStore;     // b of a problem taken over by takeSparse
     std::vector<double> binvStore;  // storage of Binv, kept between solves (grows, never shrinks)
     double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
     int m = 0;
@@ -104,36 +107,73 @@ struct LemkeSolver::Workspace {
             }
             rowStart[std::size_t(i) + 1] = int(rowCol.size());
         }
-        buildColumns();
+        columnsReady = false;
         return -1;
+    }
+
+    /// Checks a compressed-row A (and computes aMaxA); returns an empty string or what is wrong with it. One
+    /// branch-light pass over the entries; the message for a bad entry comes from a second, slow pass.
+    std::string checkSparse(const SparseLcp& lcp) {
+        if (lcp.rowStart.size() != std::size_t(n) + 1 || lcp.rowStart[0] != 0 ||
+            lcp.cols.size() != lcp.vals.size() || std::size_t(lcp.rowStart[std::size_t(n)]) != lcp.cols.size())
+            return "sparse LCP: rowStart must have n + 1 entries from 0 to the number of entries";
+        aMaxA = 0.0;
+        bool bad = false;
+        const int* cols = lcp.cols.data();
+        const double* vals = lcp.vals.data();
+        for (int i = 0; i < n; ++i) {
+            const int first = lcp.rowStart[std::size_t(i)], last = lcp.rowStart[std::size_t(i) + 1];
+            if (last < first) return "sparse LCP: rowStart must not decrease";
+            int previous = -1;
+            for (int k = first; k < last; ++k) {
+                const int j = cols[k];
+                bad |= j <= previous || j >= n;
+                previous = j;
+                const double a = std::fabs(vals[k]);
+                bad |= !(a <= std::numeric_limits<double>::max());  // NaN or infinity
+                aMaxA = a > aMaxA ? a : aMaxA;
+            }
+        }
+        if (!bad) return {};
+        for (int i = 0; i < n; ++i) {
+            for (int k = lcp.rowStart[std::size_t(i)]; k < lcp.rowStart[std::size_t(i) + 1]; ++k) {
+                const int j = cols[k];
+                if (j < 0 || j >= n) return "sparse LCP: column index out of range in row " + std::to_string(i);
+                if (k > lcp.rowStart[std::size_t(i)] && j <= cols[k - 1])
+                    return "sparse LCP: columns of row " + std::to_string(i) + " must be strictly increasing";
+                if (!std::isfinite(vals[k]))
+                    return "A has a non-finite entry at (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+            }
+        }
+        return "sparse LCP: malformed";
     }
 
     /// Copies a compressed-row A; returns an empty string or what is wrong with it.
     std::string loadSparse(const SparseLcp& lcp) {
-        if (lcp.rowStart.size() != std::size_t(n) + 1 || lcp.rowStart[0] != 0 ||
-            lcp.cols.size() != lcp.vals.size() || std::size_t(lcp.rowStart[std::size_t(n)]) != lcp.cols.size())
-            return "sparse LCP: rowStart must have n + 1 entries from 0 to the number of entries";
+        std::string why = checkSparse(lcp);
+        if (!why.empty()) return why;
         rowStart = lcp.rowStart;
-        rowCol.clear();
-        rowVal.clear();
-        aMaxA = 0.0;
-        for (int i = 0; i < n; ++i) {
-            if (rowStart[std::size_t(i) + 1] < rowStart[std::size_t(i)]) return "sparse LCP: rowStart must not decrease";
-            for (int k = lcp.rowStart[std::size_t(i)]; k < lcp.rowStart[std::size_t(i) + 1]; ++k) {
-                const int j = lcp.cols[std::size_t(k)];
-                const double v = lcp.vals[std::size_t(k)];
-                if (j < 0 || j >= n) return "sparse LCP: column index out of range in row " + std::to_string(i);
-                if (k > lcp.rowStart[std::size_t(i)] && j <= lcp.cols[std::size_t(k) - 1])
-                    return "sparse LCP: columns of row " + std::to_string(i) + " must be strictly increasing";
-                if (!std::isfinite(v))
-                    return "A has a non-finite entry at (" + std::to_string(i) + ", " + std::to_string(j) + ")";
-                aMaxA = std::max(aMaxA, std::fabs(v));
-                rowCol.push_back(j);
-                rowVal.push_back(v);
-            }
-        }
-        buildColumns();
+        rowCol = lcp.cols;
+        rowVal = lcp.vals;
+        columnsReady = false;
         return {};
+    }
+
+    /// Takes a compressed-row A over (no copy); `lcp` is left empty.
+    std::string takeSparse(SparseLcp& lcp) {
+        std::string why = checkSparse(lcp);
+        if (!why.empty()) return why;
+        rowStart.swap(lcp.rowStart);
+        rowCol.swap(lcp.cols);
+        rowVal.swap(lcp.vals);
+        columnsReady = false;
+        return {};
+    }
+
+    /// The column-major copy is built only once a solve needs it (a warm start that checks out uses rows only).
+    void ensureColumns() {
+        if (!columnsReady) buildColumns();
+        columnsReady = true;
     }
 
     /// The column-major copy of the row pattern (rows ascending within each column).
