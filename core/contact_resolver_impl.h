@@ -308,10 +308,10 @@ FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies
         const ContactNode<D>& node = contacts[std::size_t(c)];
         sys.b[std::size_t(c)] = normalRhs(bodies, node, options.restitutionThreshold);
         sys.mu[std::size_t(c)] = node.friction;
-        const auto dirs = frictionDirections(node, k);
         for (int m = 0; m < k; ++m) {
-            sys.rows.push_back(makeRow(bodies, node, dirs[std::size_t(m)]));
-            const double vt = relativeVelocityAlong(bodies, node, dirs[std::size_t(m)]);
+            const typename D::Vec dir = D::tangentDirection(node.normal, m, k);  // as frictionDirections(node, k)
+            sys.rows.push_back(makeRow(bodies, node, dir));
+            const double vt = relativeVelocityAlong(bodies, node, dir);
             sys.b[std::size_t(layout.tangentOffset() + c * k + m)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
         }
     }
@@ -446,10 +446,10 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     out.impulses.assign(r.z.begin(), r.z.begin() + nc);
     std::vector<typename D::Vec> tangent(std::size_t(nc), D::zeroVec());
     for (int c = 0; c < nc; ++c) {
-        const auto dirs = frictionDirections(contacts[std::size_t(c)], k);
         for (int m = 0; m < k; ++m) {
             const double beta = r.z[std::size_t(layout.tangentOffset() + c * k + m)];
-            tangent[std::size_t(c)] = D::add(tangent[std::size_t(c)], D::scale(beta, dirs[std::size_t(m)]));
+            const typename D::Vec dir = D::tangentDirection(contacts[std::size_t(c)].normal, m, k);
+            tangent[std::size_t(c)] = D::add(tangent[std::size_t(c)], D::scale(beta, dir));
         }
     }
     for (const auto& t : tangent) {

@@ -107,6 +107,16 @@ json fallingCirclesScene(int count, bool sleep) {
     return scene;
 }
 
+json scatteredCirclesScene(int count, bool sleep) {
+    json scene = header(sleep);
+    json& bodies = scene["bodies"];
+    const double half = 0.5 * (count - 1);
+    bodies.push_back(staticBody(json::array({segmentShape(-half - 5.0, 0.0, half + 5.0, 0.0, 0.6)})));
+    for (int i = 0; i < count; ++i)
+        bodies.push_back(dynamicBody(i - half, 1.0 + 0.25 * (i % 8), circleShape(0.25, 1.0, 0.6, 0.0)));
+    return scene;
+}
+
 json stackScene(int count, bool sleep) {
     json scene = header(sleep);
     json& bodies = scene["bodies"];

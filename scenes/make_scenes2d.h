@@ -36,6 +36,12 @@ nlohmann::json manyPyramidsScene(int count, int rows, bool sleep = true);
 /// unstable columns. The walls are 0.5 m beyond the outermost circles and reach 2 m above the top row.
 nlohmann::json fallingCirclesScene(int count, bool sleep = true);
 
+/// `count` circles of radius 0.25 (density 1, friction 0.6, restitution 0) dropped side by side onto one long
+/// ground segment: circle i at x = i - (count - 1) / 2 (1 m apart, so neighbours never touch), from height
+/// 1 + 0.25 (i mod 8), so they land over several steps. Every circle is its own island with one contact: the
+/// "many small islands" case of the benchmark. Bodies: ground, then the circles left to right.
+nlohmann::json scatteredCirclesScene(int count, bool sleep = true);
+
 /// A vertical stack of `count` 1 m boxes (density 1, friction 0.6) on the ground segment, the bottom box resting
 /// on it (centre y = 0.5) and 0.05 m gaps between boxes (centres 1.05 m apart). stackScene(10) reproduces
 /// scenes/stack10.json (plus "sleep").
