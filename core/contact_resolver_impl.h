@@ -12,6 +12,7 @@
 #include "contact_resolver.h"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
@@ -318,6 +319,26 @@ FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies
     return sys;
 }
 
+// The earlier tangent row of the same contact whose direction is exactly -1 times row i's (every component of the
+// row negated, compared bit for bit), or -1.
+template <class D>
+int negatedEarlierRow(const std::vector<JacobianRow<D>>& rows, int i, const FrictionLayout& layout) {
+    const int k = layout.directions;
+    const int m = (i - layout.tangentOffset()) % k;
+    const JacobianRow<D>& r = rows[std::size_t(i)];
+    for (int p = i - m; p < i; ++p) {
+        const JacobianRow<D>& q = rows[std::size_t(p)];
+        bool negated = true;
+        for (int s = 0; s < 2 && negated; ++s) {
+            const typename D::Vec lin = D::scale(-1.0, q.lin[s]);
+            const typename D::Ang ang = D::angScale(-1.0, q.ang[s]);
+            negated = std::memcmp(&lin, &r.lin[s], sizeof lin) == 0 && std::memcmp(&ang, &r.ang[s], sizeof ang) == 0;
+        }
+        if (negated) return p;
+    }
+    return -1;
+}
+
 }  // namespace detail
 
 template <class D>
@@ -355,7 +376,18 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     lcp.n = layout.size();
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
     for (int i = 0; i < nr; ++i) {
-        coupling.appendRow(i, lcp.cols, lcp.vals);
+        const int partner = i >= layout.tangentOffset() ? detail::negatedEarlierRow(sys.rows, i, layout) : -1;
+        if (partner >= 0) {
+            // Row i is exactly -1 times an earlier tangent row of its contact (+t / -t pairs): every coupling term
+            // is that row's term negated, bit for bit (negation is exact, and so are the products and sums of
+            // negated values), so copy them rather than recompute. The partner's last entry is its slack column.
+            for (int e = lcp.rowStart[std::size_t(partner)]; e < lcp.rowStart[std::size_t(partner) + 1] - 1; ++e) {
+                lcp.cols.push_back(lcp.cols[std::size_t(e)]);
+                lcp.vals.push_back(-lcp.vals[std::size_t(e)]);
+            }
+        } else {
+            coupling.appendRow(i, lcp.cols, lcp.vals);
+        }
         if (i >= layout.tangentOffset()) {
             lcp.cols.push_back(layout.slackOffset() + (i - layout.tangentOffset()) / k);
             lcp.vals.push_back(1.0);
