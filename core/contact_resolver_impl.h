@@ -82,6 +82,18 @@ public:
         }
     }
 
+    /// An upper bound on the entries of all rows (every row meets each row of its two bodies at most once).
+    std::size_t entryBound() const {
+        std::size_t total = 0;
+        for (std::size_t i = 0; 2 * i < mBodyOf.size(); ++i) {
+            for (int s = 0; s < 2; ++s) {
+                const int k = mBodyOf[2 * i + std::size_t(s)];
+                if (movable(k)) total += std::size_t(mStart[std::size_t(k) + 1] - mStart[std::size_t(k)]);
+            }
+        }
+        return total;
+    }
+
     /// Appends row i's nonzero entries (columns ascending) to cols/vals.
     void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
@@ -264,6 +276,8 @@ SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     SparseLcp lcp;
     lcp.n = int(contacts.size());
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    lcp.cols.reserve(coupling.entryBound());
+    lcp.vals.reserve(coupling.entryBound());
     for (int i = 0; i < lcp.n; ++i) {
         coupling.appendRow(i, lcp.cols, lcp.vals);
         lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
@@ -375,6 +389,9 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     SparseLcp lcp;
     lcp.n = layout.size();
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    const std::size_t bound = coupling.entryBound() + std::size_t(nc) * std::size_t(2 * k + 1);
+    lcp.cols.reserve(bound);
+    lcp.vals.reserve(bound);
     for (int i = 0; i < nr; ++i) {
         const int partner = i >= layout.tangentOffset() ? detail::negatedEarlierRow(sys.rows, i, layout) : -1;
         if (partner >= 0) {
