@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <iosfwd>
 #include <string>
 
@@ -46,5 +47,12 @@ CommandOutput runResolve(const nlohmann::json& input, const std::string& what);
 /// object with every body's state and the step statistics to `out`. Returns 0, or 1 when some island's LCP
 /// failed during the run. Bad scenes throw InputError.
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out);
+
+/// `unison run` for a scene with "dimension": 3 (runScene dispatches to it); relative `obj` paths are resolved
+/// against the folder of `what` (the scene file).
+int runScene3(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out);
+
+/// A state hash as the 16 lower-case hex digits the run output prints.
+std::string hashHex(std::uint64_t hash);
 
 }  // namespace unison::cli
