@@ -24,6 +24,7 @@ enum Kind : std::uint32_t {
 };
 
 constexpr std::uint32_t kFlip = 0x80000000u;
+constexpr double kTouchBand = 0.005;  // m: see reduceToFour
 
 std::uint32_t convexId(Kind kind, int ref, int inc, int side) {
     return (std::uint32_t(kind) << 28) | ((std::uint32_t(ref) & 0x3FFu) << 18) | ((std::uint32_t(inc) & 0x3FFu) << 8) |
@@ -471,10 +472,14 @@ void meshMeshPass(const TriangleMesh& a, const Transform3& xfA, const TriangleMe
                     nearest = vb;
                 }
             }
-            if (nearest < 0 || bestD > nb.radius + margin) continue;
+            if (nearest < 0) continue;
+            // The vertex counts only when it lies over b's surface near `nearest` (within about one edge sideways)
+            // and not deeper than a few edges: otherwise the nearest vertex of this leaf is not the surface it meets.
             const Vec3 n = mul(xfB.r, b.vertexNormals[std::size_t(nearest)]);
-            const double sep = D3::dot(n, D3::sub(pa, transformPoint(xfB, b.vertices[std::size_t(nearest)])));
-            if (sep >= margin) continue;
+            const Vec3 d = D3::sub(pa, transformPoint(xfB, b.vertices[std::size_t(nearest)]));
+            const double sep = D3::dot(n, d);
+            const Vec3 lateral = D3::sub(d, D3::scale(sep, n));
+            if (sep >= margin || sep < -4.0 * b.meanEdge || D3::dot(lateral, lateral) > b.meanEdge * b.meanEdge) continue;
             const std::uint32_t id = vertexId(kTreeVertex, va);
             cands.push_back({D3::sub(pa, D3::scale(0.5 * sep, n)), flip ? neg(n) : n, sep, flip ? id | kFlip : id});
         }
@@ -496,10 +501,19 @@ bool isPoly(const Shape3& s) { return s.type == ShapeType3::box || s.type == Sha
 std::vector<ManifoldPoint3> reduceToFour(const std::vector<ManifoldPoint3>& c) {
     if (c.size() <= 4) return c;
     const int n = int(c.size());
+    int i0 = 0;  // deepest (lowest index on ties)
+    for (int i = 1; i < n; ++i)
+        if (c[std::size_t(i)].separation < c[std::size_t(i0)].separation) i0 = i;
+    const Vec3 p0 = c[std::size_t(i0)].point;
+    // Only points that touch (overlap) or lie within kTouchBand of the deepest one may span the area: a speculative
+    // point 2 cm away would span a support polygon that does not hold anything yet, and the body would rock on the
+    // one or two points that do.
+    const double limit = std::max(0.0, c[std::size_t(i0)].separation + kTouchBand);
     auto argmax = [&](auto score) {
-        int best = 0;
+        int best = i0;
         double bestS = -1e300;
         for (int i = 0; i < n; ++i) {
+            if (c[std::size_t(i)].separation > limit) continue;
             const double s = score(c[std::size_t(i)]);
             if (s > bestS) {
                 bestS = s;
@@ -508,8 +522,6 @@ std::vector<ManifoldPoint3> reduceToFour(const std::vector<ManifoldPoint3>& c) {
         }
         return std::make_pair(best, bestS);
     };
-    const int i0 = argmax([](const ManifoldPoint3& p) { return -p.separation; }).first;  // deepest
-    const Vec3 p0 = c[std::size_t(i0)].point;
     const auto [i1, d1] = argmax([&](const ManifoldPoint3& p) {
         const Vec3 d = D3::sub(p.point, p0);
         return D3::dot(d, d);

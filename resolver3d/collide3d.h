@@ -44,7 +44,9 @@ Manifold3 collide(const Shape3& a, const Transform3& xfA, const Shape3& b, const
                   double speculativeDistance, std::vector<ManifoldPoint3>* outCandidates = nullptr);
 
 /// The paper's reduction: of many candidate points keep at most 4 — the deepest, then the one farthest from it,
-/// then the one that makes the largest triangle, then the one that adds the most area. Ties go to the lower index.
+/// then the one that makes the largest triangle, then the one that adds the most area. Only points that overlap or
+/// lie within 5 mm of the deepest compete for the area (speculative points farther out would span a support that
+/// holds nothing yet). Ties go to the lower index.
 std::vector<ManifoldPoint3> reduceToFour(const std::vector<ManifoldPoint3>& candidates);
 
 }  // namespace unison

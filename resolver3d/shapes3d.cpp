@@ -290,6 +290,11 @@ std::string makeMesh(const std::vector<Vec3>& vertices, const std::vector<std::a
         const Vec3 an = D3::cross(D3::sub(b, a), D3::sub(c, a));  // twice the area times the unit normal
         for (int k = 0; k < 3; ++k) mesh->vertexNormals[std::size_t(tri[std::size_t(k)])] = D3::add(mesh->vertexNormals[std::size_t(tri[std::size_t(k)])], an);
     }
+    double edgeSum = 0.0;
+    for (const auto& tri : triangles)
+        for (int k = 0; k < 3; ++k)
+            edgeSum += norm(D3::sub(vertices[std::size_t(tri[std::size_t(k)])], vertices[std::size_t(tri[std::size_t((k + 1) % 3)])]));
+    mesh->meanEdge = edgeSum / double(3 * triangles.size());
     std::vector<int> used(std::size_t(nv), 0);
     for (const auto& tri : triangles)
         for (int k = 0; k < 3; ++k) used[std::size_t(tri[std::size_t(k)])] = 1;

@@ -95,6 +95,7 @@ struct TriangleMesh {
     std::vector<Vec3> vertexNormals;            ///< (nv) area-weighted outward unit normals
     std::vector<SphereNode> tree;               ///< node 0 is the root
     std::vector<int> order;                     ///< vertex indices grouped by leaf
+    double meanEdge = 0.0;                      ///< mean edge length (m): the surface's sampling spacing
 };
 
 enum class ShapeType3 : std::uint8_t { sphere, box, hull, plane, mesh };

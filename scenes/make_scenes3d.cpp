@@ -104,8 +104,8 @@ json bunnies3Scene(const std::string& objPath, double scale, int bunnies, bool s
     json scene = sceneHeader(sleep);
     scene["bodies"].push_back(groundBody());
     const double angle = 0.35;
-    scene["bodies"].push_back(rampBody(-1.0, 2.0, -angle, 1.6, 0.1, 1.0, 0.5));  // upper ramp, falls to the right
-    scene["bodies"].push_back(rampBody(1.4, 0.9, angle, 1.6, 0.1, 1.0, 0.5));   // lower ramp, falls to the left
+    scene["bodies"].push_back(rampBody(-1.0, 2.0, -angle, 1.6, 0.1, 1.0, 0.2));  // upper ramp, falls to the right
+    scene["bodies"].push_back(rampBody(1.4, 0.9, angle, 1.6, 0.1, 1.0, 0.2));   // lower ramp, falls to the left
     for (int b = 0; b < bunnies; ++b) {
         const json mesh = {{"type", "mesh"}, {"obj", objPath}, {"scale", scale}, {"density", 1.0}, {"friction", 0.5},
                            {"restitution", 0.1}};

@@ -3,9 +3,12 @@
 // ramp (rest when mu > tan(theta), slide otherwise), a 3D Newton's cradle, stacking, bad input, determinism.
 #include "test_support.h"
 
+#include "make_scenes3d.h"
 #include "resolver3d.h"
+#include "scene_json3d.h"
 #include "world3d.h"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -275,7 +278,43 @@ TEST_CASE("determinism: two runs give the same hash every step; the golden hash 
         REQUIRE(a.stateHash() == b.stateHash());
     }
     CHECK(a.stats().failedIslands == 0);
-    CHECK(a.stateHash() == 0xa56a22194f30fe1ull);  // taken with gcc -O2 on x86-64
+    CHECK(a.stateHash() == 0xdfa30a848dda2c6ull);  // taken with gcc -O2 on x86-64
+}
+
+TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide off both ramps and rest on the ground") {
+    WorldDef3 def;
+    def.gravity = Vec3::Zero();
+    World3 world(def);
+    addStatic(world, groundPlane(0.6, 0.5));
+    std::vector<Vec3> v;
+    for (int i = 0; i < 8; ++i) v.push_back(Vec3((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5));
+    const std::vector<std::array<int, 3>> t{{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    Shape3 mesh;
+    REQUIRE(makeMesh(v, t, &mesh).empty());
+    mesh.restitution = 0.5;
+    const BodyId id = addDynamic(world, mesh, Vec3(0, 0.51, 0), Vec3(0, -3, 0));
+    world.step();
+    CHECK(world.stats().contacts == 4);
+    CHECK(world.state(id)->velocity.y() == doctest::Approx(1.5).epsilon(1e-9));
+    CHECK(world.state(id)->angularVelocity.norm() < 1e-9);
+
+    // The sample's scene: mixed friction sqrt(0.5 * 0.2) = 0.32 < tan(0.35) = 0.37, so the bunnies slide off.
+    auto loaded = scenes::loadScene3(scenes::bunnies3Scene(std::string(UNISON_SOURCE_DIR) + "/samples/assets/bunny.obj", 0.05, 2), "bunnies");
+    int failed = 0, maxContacts = 0;
+    for (int i = 0; i < 600; ++i) {
+        loaded.world->step();
+        failed += loaded.world->stats().failedIslands;
+        maxContacts = std::max(maxContacts, loaded.world->stats().contacts);
+    }
+    CHECK(failed == 0);
+    CHECK(maxContacts <= 4 * 4);  // at most 4 points per touching pair (two bunnies, two ramps, ground, each other)
+    for (std::size_t b = 3; b < 5; ++b) {
+        const BodyState3& s = *loaded.world->state(loaded.bodies[b]);
+        CHECK(s.center.y() < 0.3);  // on the ground (the bunny is about 0.48 m tall)
+        CHECK(s.center.y() > 0.05);
+        CHECK(s.velocity.norm() < 0.05);
+    }
 }
 
 }  // TEST_SUITE
