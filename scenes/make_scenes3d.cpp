@@ -55,7 +55,7 @@ json boxStack3Scene(int count, bool sleep) {
     return scene;
 }
 
-json boxPile3Scene(int count, bool sleep) {
+json boxPile3Scene(int count, bool tumble, bool sleep) {
     json scene = sceneHeader(sleep);
     scene["bodies"].push_back(groundBody());
     const double half = 1.8, wall = 0.1, height = 2.0;
@@ -69,10 +69,17 @@ json boxPile3Scene(int count, bool sleep) {
     scene["bodies"].push_back(pen);
     for (int i = 0; i < count; ++i) {
         const int layer = i / 25, ix = i % 5, iz = (i / 5) % 5;
-        const double shift = layer % 2 == 1 ? 0.2 : 0.0;
-        scene["bodies"].push_back(dynamicBody(-1.4 + 0.7 * ix + shift, 0.35 + 0.7 * layer + 0.01 * layer,
-                                              -1.4 + 0.7 * iz + shift, boxShape(0.25, 0.25, 0.25, 0.6),
-                                              axisQuat(1, 0.1 * layer)));
+        const double shift = layer % 2 == 1 ? 0.1 : 0.0;
+        // Tumbling: tilted about x by 0.3 rad, so cubes land on an edge and topple into a heap; spun about y by
+        // 0.1 rad per layer either way.
+        double s = 0.0, c = 1.0;
+        if (tumble) dmath::sincos(0.15, &s, &c);
+        const json tilt = {c, s, 0.0, 0.0};
+        const json spin = axisQuat(1, 0.1 * layer);
+        const double qw = spin[0], qy = spin[2], tw = tilt[0], tx = tilt[1];
+        const json q = {qw * tw, qw * tx, qy * tw, -qy * tx};  // spin * tilt
+        scene["bodies"].push_back(dynamicBody(-1.3 + 0.65 * ix + shift, 0.4 + 0.75 * layer, -1.3 + 0.65 * iz + shift,
+                                              boxShape(0.25, 0.25, 0.25, 0.6), q));
     }
     return scene;
 }

@@ -21,10 +21,13 @@ namespace unison::scenes {
 nlohmann::json boxStack3Scene(int count, bool sleep = true);
 
 /// `count` cubes of 0.5 m (density 1, friction 0.6) dropped in layers of 5 x 5 onto the ground inside a static
-/// 4-wall pen (boxes, friction 0.6) 3.6 m wide: cubes 0.7 m apart in x and z, layers 0.7 m apart from y = 0.35,
-/// odd layers shifted by 0.2 m in x and z and every cube turned about y by 0.1 rad times its layer, so they tumble
-/// into a pile. Bodies: ground, pen (one static body of 4 boxes), then the cubes layer by layer, x-major.
-nlohmann::json boxPile3Scene(int count, bool sleep = true);
+/// 4-wall pen (boxes, friction 0.6) 3.6 m wide inside: cubes 0.65 m apart in x and z from -1.3, layers 0.75 m apart
+/// from y = 0.4, odd layers shifted by 0.1 m in x and z, every cube turned about y by 0.1 rad times its layer.
+/// tumble = false: the cubes land flat and form 25 separate columns (25 small islands). tumble = true: every cube is
+/// also tilted 0.3 rad about x, lands on an edge and topples, and the cubes form one heap (one island of ~800
+/// contacts). Nothing overlaps at the start. Bodies: ground, pen (one static body of 4 boxes), then the cubes layer
+/// by layer (x fastest, then z).
+nlohmann::json boxPile3Scene(int count, bool tumble, bool sleep = true);
 
 /// 5 spheres of radius 0.5 (density 1, friction 0.6) at x = -4, -2, ..., 4, bottom 4 m above the ground
 /// (centre y = 4.5), with restitution e = k/4 for k = 0..4 (the ground has 0; mixing takes the max);

@@ -3,7 +3,7 @@
 # Safe to run again: apt-get skips what is already installed.
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
-          libsiconos-numerics-dev)
+          libsiconos-numerics-dev libbullet-dev pkg-config)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -47,7 +47,7 @@ TEST_CASE("the bunny asset is a closed mesh; its sphere tree and mass load") {
 }
 
 TEST_CASE("generated 3D scenes load; a ramp cube rests or slides as tan(theta) and mu say") {
-    for (const auto& scene : {scenes::boxStack3Scene(4), scenes::boxPile3Scene(30), scenes::spheres3Scene()}) {
+    for (const auto& scene : {scenes::boxStack3Scene(4), scenes::boxPile3Scene(30, true), scenes::spheres3Scene()}) {
         const auto loaded = scenes::loadScene3(scene, "generated");
         CHECK(loaded.world->bodyCount() == int(scene["bodies"].size()));
     }
