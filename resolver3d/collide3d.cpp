@@ -57,11 +57,6 @@ WorldPoly place(const ConvexPolyhedron& p, const Transform3& xf) {
     return w;
 }
 
-struct Candidates {
-    std::vector<ManifoldPoint3> pts;
-    void add(const Vec3& point, const Vec3& normal, double sep, std::uint32_t id) { pts.push_back({point, normal, sep, id}); }
-};
-
 Manifold3 finish(const std::vector<ManifoldPoint3>& cands, std::vector<ManifoldPoint3>* outCandidates) {
     Manifold3 m;
     m.candidates = int(cands.size());
