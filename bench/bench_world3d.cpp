@@ -13,7 +13,9 @@
 //           is one island); the table says how many steps each ran.
 // Timings are steady_clock around each step() call. Benchmarks report; the exit code is 0 unless something threw.
 //
-// Usage: bench_world3d [--quick] [--pile-steps N] [--pile-boxes N] [--budget-seconds S] [--json FILE]
+// --validate (ctest's bullet_agreement) runs only the stack and the spheres and exits 1 outside a tolerance.
+//
+// Usage: bench_world3d [--quick] [--validate] [--pile-steps N] [--pile-boxes N] [--budget-seconds S] [--json FILE]
 #include "bullet_peer.h"
 #include "make_scenes3d.h"
 #include "scene_json3d.h"
@@ -234,7 +236,9 @@ int main(int argc, char** argv) {
     int pileSteps = 300, pileBoxes = 100;
     double budget = 60.0;
     std::string jsonFile;
+    bool validate = false;
     app.add_flag("--quick", quick, "short runs (smoke test)");
+    app.add_flag("--validate", validate, "only the stack and spheres scenes; exit 1 when a tolerance is not met");
     app.add_option("--pile-steps", pileSteps, "steps of the pile scene")->check(CLI::PositiveNumber);
     app.add_option("--pile-boxes", pileBoxes, "cubes in the pile")->check(CLI::Range(1, 1000));
     app.add_option("--budget-seconds", budget, "pile: an engine stops after this much step time")->check(CLI::PositiveNumber);
@@ -244,6 +248,11 @@ int main(int argc, char** argv) {
     nlohmann::json results;
     results["stack"] = runStack(quick ? 60 : 240);
     results["spheres"] = runSpheres(quick ? 120 : 240);
+    if (validate) {
+        const bool ok = results["stack"]["within_tolerance"].get<bool>() && results["spheres"]["within_tolerance"].get<bool>();
+        std::printf("\nvalidation against Bullet SI and the closed forms: %s\n", ok ? "passed" : "FAILED");
+        return ok ? 0 : 1;
+    }
     const int boxes = quick ? std::min(pileBoxes, 25) : pileBoxes;
     results["pile_columns"] = runPile(pileSteps, boxes, false, quick ? std::min(budget, 5.0) : budget);
     results["pile_heap"] = runPile(pileSteps, boxes, true, quick ? std::min(budget, 5.0) : budget);
