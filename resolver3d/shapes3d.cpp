@@ -166,12 +166,14 @@ std::vector<std::array<int, 3>> fanTriangles(const ConvexPolyhedron& p) {
     return tris;
 }
 
-// Top-down sphere tree over vertex indices [first, first + count) of `order`: split at the median of the longest
-// axis of the range's bounding box (ties by vertex index), until at most leafSize vertices remain.
-int buildTree(TriangleMesh& m, int first, int count, int leafSize) {
-    Vec3 lo = m.vertices[std::size_t(m.order[std::size_t(first)])], hi = lo, c = Vec3::Zero();
+// Top-down sphere tree over items [first, first + count) of tree.order, each a ball (centres[i], radii[i]): split
+// at the median of the longest axis of the range's centre box (ties by item index), until at most leafSize remain.
+int buildTree(SphereTree& tree, const std::vector<Vec3>& centres, const std::vector<double>& radii, int first, int count,
+              int leafSize) {
+    auto at = [&](int k) { return tree.order[std::size_t(k)]; };
+    Vec3 lo = centres[std::size_t(at(first))], hi = lo, c = Vec3::Zero();
     for (int k = first; k < first + count; ++k) {
-        const Vec3& v = m.vertices[std::size_t(m.order[std::size_t(k)])];
+        const Vec3& v = centres[std::size_t(at(k))];
         lo = lo.cwiseMin(v);
         hi = hi.cwiseMax(v);
         c = D3::add(c, v);
@@ -179,23 +181,23 @@ int buildTree(TriangleMesh& m, int first, int count, int leafSize) {
     SphereNode node;
     node.center = D3::scale(1.0 / double(count), c);
     for (int k = first; k < first + count; ++k)
-        node.radius = std::max(node.radius, norm(D3::sub(m.vertices[std::size_t(m.order[std::size_t(k)])], node.center)));
+        node.radius = std::max(node.radius, norm(D3::sub(centres[std::size_t(at(k))], node.center)) + radii[std::size_t(at(k))]);
     node.first = first;
     node.count = count;
-    const int index = int(m.tree.size());
-    m.tree.push_back(node);
+    const int index = int(tree.nodes.size());
+    tree.nodes.push_back(node);
     if (count <= leafSize) return index;
     const Vec3 ext = D3::sub(hi, lo);
     const int axis = ext.x() >= ext.y() && ext.x() >= ext.z() ? 0 : (ext.y() >= ext.z() ? 1 : 2);
-    std::sort(m.order.begin() + first, m.order.begin() + first + count, [&](int a, int b) {
-        const double ca = m.vertices[std::size_t(a)][axis], cb = m.vertices[std::size_t(b)][axis];
+    std::sort(tree.order.begin() + first, tree.order.begin() + first + count, [&](int a, int b) {
+        const double ca = centres[std::size_t(a)][axis], cb = centres[std::size_t(b)][axis];
         return ca < cb || (ca == cb && a < b);
     });
     const int half = count / 2;
-    const int l = buildTree(m, first, half, leafSize);
-    const int r = buildTree(m, first + half, count - half, leafSize);
-    m.tree[std::size_t(index)].left = l;
-    m.tree[std::size_t(index)].right = r;
+    const int l = buildTree(tree, centres, radii, first, half, leafSize);
+    const int r = buildTree(tree, centres, radii, first + half, count - half, leafSize);
+    tree.nodes[std::size_t(index)].left = l;
+    tree.nodes[std::size_t(index)].right = r;
     return index;
 }
 
@@ -301,9 +303,25 @@ std::string makeMesh(const std::vector<Vec3>& vertices, const std::vector<std::a
     for (int v = 0; v < nv; ++v) {
         const double l = norm(mesh->vertexNormals[std::size_t(v)]);
         mesh->vertexNormals[std::size_t(v)] = l > 0.0 ? D3::scale(1.0 / l, mesh->vertexNormals[std::size_t(v)]) : Vec3::UnitZ();
-        if (used[std::size_t(v)]) mesh->order.push_back(v);  // unused vertices never collide
+        if (used[std::size_t(v)]) mesh->vertexTree.order.push_back(v);  // unused vertices never collide
     }
-    buildTree(*mesh, 0, int(mesh->order.size()), std::max(1, leafSize));
+    buildTree(mesh->vertexTree, vertices, std::vector<double>(std::size_t(nv), 0.0), 0, int(mesh->vertexTree.order.size()),
+              std::max(1, leafSize));
+    // Triangles as balls around their centroids.
+    std::vector<Vec3> centroids;
+    std::vector<double> radii;
+    for (int t = 0; t < int(triangles.size()); ++t) {
+        const auto& tri = triangles[std::size_t(t)];
+        const Vec3 a = vertices[std::size_t(tri[0])], b = vertices[std::size_t(tri[1])], c = vertices[std::size_t(tri[2])];
+        const Vec3 n = D3::cross(D3::sub(b, a), D3::sub(c, a));
+        const double l = norm(n);
+        mesh->triangleNormals.push_back(l > 0.0 ? D3::scale(1.0 / l, n) : Vec3::UnitZ());
+        const Vec3 g = D3::scale(1.0 / 3.0, D3::add(D3::add(a, b), c));
+        centroids.push_back(g);
+        radii.push_back(std::max(norm(D3::sub(a, g)), std::max(norm(D3::sub(b, g)), norm(D3::sub(c, g)))));
+        mesh->triangleTree.order.push_back(t);
+    }
+    buildTree(mesh->triangleTree, centroids, radii, 0, int(triangles.size()), std::max(1, leafSize));
     Shape3 s = *out;
     s.type = ShapeType3::mesh;
     s.mesh = mesh;
@@ -403,7 +421,7 @@ Aabb3 computeAabb(const Shape3& s, const Transform3& xf) {
         addPoints(s.poly->vertices);
         break;
     case ShapeType3::mesh: {
-        const SphereNode& root = s.mesh->tree[0];
+        const SphereNode& root = s.mesh->vertexTree.nodes[0];
         const Vec3 c = transformPoint(xf, root.center);
         const Vec3 r(root.radius, root.radius, root.radius);
         box.lower = D3::sub(c, r);

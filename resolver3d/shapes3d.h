@@ -80,21 +80,29 @@ struct ConvexPolyhedron {
     Vec3 centroid = Vec3::Zero();  ///< mean of the vertices (an interior point)
 };
 
-/// A node of a mesh's bounding-sphere hierarchy. Leaves own vertices order[first .. first + count).
+/// A node of a bounding-sphere hierarchy. Every node owns the items order[first .. first + count) of its tree.
 struct SphereNode {
     Vec3 center = Vec3::Zero();
     double radius = 0.0;
     int left = -1, right = -1;  ///< children (-1 for a leaf)
-    int first = 0, count = 0;   ///< vertex range in TriangleMesh::order (leaves)
+    int first = 0, count = 0;   ///< item range in the tree's order
 };
 
-/// A closed triangle mesh with a sphere tree over its vertices (the paper's sphere-tree collision model).
+/// A bounding-sphere hierarchy over items (vertices or triangles): node 0 is the root.
+struct SphereTree {
+    std::vector<SphereNode> nodes;
+    std::vector<int> order;  ///< item indices grouped by leaf
+};
+
+/// A closed triangle mesh with sphere trees (the paper's sphere-tree collision model): one over its vertices (mesh
+/// points against other shapes) and one over its triangles (other shapes' corners and spheres against its faces).
 struct TriangleMesh {
     std::vector<Vec3> vertices;                 ///< (nv) body frame
     std::vector<std::array<int, 3>> triangles;  ///< (nt) counter-clockwise seen from outside
     std::vector<Vec3> vertexNormals;            ///< (nv) area-weighted outward unit normals
-    std::vector<SphereNode> tree;               ///< node 0 is the root
-    std::vector<int> order;                     ///< vertex indices grouped by leaf
+    std::vector<Vec3> triangleNormals;          ///< (nt) outward unit normals
+    SphereTree vertexTree;                      ///< leaves hold <= leafSize vertices
+    SphereTree triangleTree;                    ///< leaves hold <= leafSize triangles
     double meanEdge = 0.0;                      ///< mean edge length (m): the surface's sampling spacing
 };
 

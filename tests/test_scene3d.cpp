@@ -43,7 +43,8 @@ TEST_CASE("the bunny asset is a closed mesh; its sphere tree and mass load") {
     // 194.288 cubic units in the package's units (scripts/bunny_to_obj.js), times 0.05^3.
     CHECK(md.mass == doctest::Approx(194.288 * 0.05 * 0.05 * 0.05).epsilon(1e-4));
     CHECK(md.inertia.determinant() > 0.0);
-    CHECK(s.mesh->tree.size() > 100);
+    CHECK(s.mesh->vertexTree.nodes.size() > 100);
+    CHECK(s.mesh->triangleTree.nodes.size() > 100);
 }
 
 TEST_CASE("generated 3D scenes load; a ramp cube rests or slides as tan(theta) and mu say") {

@@ -128,7 +128,7 @@ TEST_CASE("mesh: open or inverted meshes and bad sizes are rejected and leave th
     CHECK(s.mesh == nullptr);
 }
 
-TEST_CASE("mesh sphere tree: every node's sphere holds its vertices, leaves cover every vertex once") {
+TEST_CASE("mesh sphere trees: every node's sphere holds its vertices (triangles), leaves cover each once") {
     // A UV sphere of 16 x 8 quads (closed).
     std::vector<Vec3> v{Vec3(0, 0, 1), Vec3(0, 0, -1)};
     const int nu = 16, nv = 8;
@@ -153,14 +153,24 @@ TEST_CASE("mesh sphere tree: every node's sphere holds its vertices, leaves cove
     REQUIRE(makeMesh(v, t, &s, 4).empty());
     const TriangleMesh& m = *s.mesh;
     std::vector<int> seen(v.size(), 0);
-    for (const SphereNode& node : m.tree) {
+    for (const SphereNode& node : m.vertexTree.nodes) {
         for (int k = node.first; k < node.first + node.count; ++k) {
-            const Vec3& p = m.vertices[std::size_t(m.order[std::size_t(k)])];
+            const Vec3& p = m.vertices[std::size_t(m.vertexTree.order[std::size_t(k)])];
             CHECK((p - node.center).norm() <= node.radius * (1.0 + 1e-12));
-            if (node.left < 0) ++seen[std::size_t(m.order[std::size_t(k)])];
+            if (node.left < 0) ++seen[std::size_t(m.vertexTree.order[std::size_t(k)])];
         }
         if (node.left < 0) CHECK(node.count <= 4);
     }
+    std::vector<int> seenTri(t.size(), 0);
+    for (const SphereNode& node : m.triangleTree.nodes) {
+        for (int k = node.first; k < node.first + node.count; ++k) {
+            const int tri = m.triangleTree.order[std::size_t(k)];
+            for (int c = 0; c < 3; ++c)
+                CHECK((m.vertices[std::size_t(t[std::size_t(tri)][std::size_t(c)])] - node.center).norm() <= node.radius * (1.0 + 1e-12));
+            if (node.left < 0) ++seenTri[std::size_t(tri)];
+        }
+    }
+    for (int c : seenTri) CHECK(c == 1);
     for (int c : seen) CHECK(c == 1);
     // The volume approaches 4/3 pi from below; the normals point outwards.
     CHECK(computeMass(s).mass < 4.0 / 3.0 * dmath::kPi);

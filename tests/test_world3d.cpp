@@ -342,4 +342,35 @@ TEST_CASE("events: a bouncing ball begins touching the ground once and ends once
     CHECK(world.stateHash() == before);
 }
 
+TEST_CASE("static mesh ground of two big triangles per face: box corners and spheres meet its triangles") {
+    // A closed slab mesh 20 x 1 x 20 m (12 triangles), top face at y = 0: no mesh vertex lies under the bodies.
+    std::vector<Vec3> v;
+    for (int i = 0; i < 8; ++i) v.push_back(Vec3((i & 1) ? 10.0 : -10.0, (i & 2) ? 0.0 : -1.0, (i & 4) ? 10.0 : -10.0));
+    const std::vector<std::array<int, 3>> t{{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    Shape3 slab;
+    REQUIRE(makeMesh(v, t, &slab).empty());
+    slab.restitution = 0.5;
+    {
+        WorldDef3 def;
+        def.gravity = Vec3::Zero();
+        World3 world(def);
+        addStatic(world, slab);
+        const BodyId id = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5), 0.6, 0.5), Vec3(0.3, 0.51, -0.2), Vec3(0, -3, 0));
+        world.step();
+        CHECK(world.stats().contacts == 4);
+        CHECK(world.state(id)->velocity.y() == doctest::Approx(1.5).epsilon(1e-9));
+        CHECK(world.state(id)->angularVelocity.norm() < 1e-9);
+    }
+    World3 world;
+    addStatic(world, slab);
+    const BodyId box = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(2, 1.0, 0));
+    const BodyId ball = addDynamic(world, ballShape(0.4), Vec3(-2, 1.0, 1));
+    for (int i = 0; i < 180; ++i) world.step();
+    CHECK(world.stats().failedIslands == 0);
+    CHECK(world.state(box)->position.y() == doctest::Approx(0.5).epsilon(0.01));
+    CHECK(world.state(ball)->position.y() == doctest::Approx(0.4).epsilon(0.01));
+    CHECK_FALSE(world.info(box)->awake);
+}
+
 }  // TEST_SUITE
