@@ -40,6 +40,17 @@ Shape3 groundPlane(double friction = 0.6, double restitution = 0.0) {
     return s;
 }
 
+// A closed box mesh (12 triangles, counter-clockwise from outside) spanning [lo, hi].
+Shape3 boxMesh(const Vec3& lo, const Vec3& hi) {
+    std::vector<Vec3> v;
+    for (int i = 0; i < 8; ++i) v.push_back(Vec3((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z()));
+    const std::vector<std::array<int, 3>> t{{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+    Shape3 s;
+    REQUIRE(makeMesh(v, t, &s).empty());
+    return s;
+}
+
 BodyId addStatic(World3& w, const Shape3& s, const Vec3& p = Vec3::Zero(), const Quat& q = Quat{}) {
     BodyDef3 d;
     d.type = BodyType3::staticBody;
@@ -286,12 +297,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
     def.gravity = Vec3::Zero();
     World3 world(def);
     addStatic(world, groundPlane(0.6, 0.5));
-    std::vector<Vec3> v;
-    for (int i = 0; i < 8; ++i) v.push_back(Vec3((i & 1) ? 0.5 : -0.5, (i & 2) ? 0.5 : -0.5, (i & 4) ? 0.5 : -0.5));
-    const std::vector<std::array<int, 3>> t{{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-    Shape3 mesh;
-    REQUIRE(makeMesh(v, t, &mesh).empty());
+    Shape3 mesh = boxMesh(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
     mesh.restitution = 0.5;
     const BodyId id = addDynamic(world, mesh, Vec3(0, 0.51, 0), Vec3(0, -3, 0));
     world.step();
@@ -344,12 +350,7 @@ TEST_CASE("events: a bouncing ball begins touching the ground once and ends once
 
 TEST_CASE("static mesh ground of two big triangles per face: box corners and spheres meet its triangles") {
     // A closed slab mesh 20 x 1 x 20 m (12 triangles), top face at y = 0: no mesh vertex lies under the bodies.
-    std::vector<Vec3> v;
-    for (int i = 0; i < 8; ++i) v.push_back(Vec3((i & 1) ? 10.0 : -10.0, (i & 2) ? 0.0 : -1.0, (i & 4) ? 10.0 : -10.0));
-    const std::vector<std::array<int, 3>> t{{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
-                                            {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
-    Shape3 slab;
-    REQUIRE(makeMesh(v, t, &slab).empty());
+    Shape3 slab = boxMesh(Vec3(-10, -1, -10), Vec3(10, 0, 10));
     slab.restitution = 0.5;
     {
         WorldDef3 def;
