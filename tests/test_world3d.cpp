@@ -321,6 +321,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
         CHECK(s.center.y() > 0.05);
         CHECK(s.velocity.norm() < 0.05);
     }
+    CHECK(loaded.world->stateHash() == 0xea158aad75d26961ull);  // golden: the mesh path too (gcc -O2 and -O0, x86-64)
 }
 
 TEST_CASE("events: a bouncing ball begins touching the ground once and ends once; bad velocities are refused") {
