@@ -251,7 +251,9 @@ TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; ba
         {"{\"dimension\": 3, \"bodies\": [{\"type\": \"dynamic\", \"shapes\": [{\"type\": \"plane\", \"normal\": [0, 1, 0]}]}]}",
          "planes must be static"},
     };
-    for (const auto& [text, fragment] : bad) {
+    for (const auto& item : bad) {
+        const char* text = item.first;  // not a structured binding: clang 14 cannot capture those in CAPTURE
+        const char* fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad_scene3d.json", text);
         const Run b = unison("run " + f);

@@ -76,7 +76,9 @@ TEST_CASE("bad scenes name the key and build nothing") {
          "restitution"},
         {R"({"dimension": 3, "friction_directions": 2, "bodies": []})", "friction_directions"},
     };
-    for (const auto& [text, fragment] : bad) {
+    for (const auto& item : bad) {
+        const char* text = item.first;  // not a structured binding: clang 14 cannot capture those in CAPTURE
+        const char* fragment = item.second;
         CAPTURE(text);
         std::string message;
         try {
