@@ -10,8 +10,19 @@
 
 namespace unison::cli {
 
+std::string hashHex(std::uint64_t hash) {
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(hash));
+    return hex;
+}
+
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
              const RunSnapshot& snapshot) {
+    const nlohmann::json* dim = scene.is_object() && scene.contains("dimension") ? &scene["dimension"] : nullptr;
+    if (dim && dim->is_number_integer() && dim->get<int>() == 3) {
+        if (snapshot.at >= 0) throw InputError("--snapshot-at: snapshots are implemented for 2D scenes only");
+        return runScene3(scene, what, steps, hashEvery, out);
+    }
     if (snapshot.at > steps) throw InputError("--snapshot-at " + std::to_string(snapshot.at) + " is after the last step");
     scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
@@ -27,11 +38,7 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
         maxResidual = std::max(maxResidual, st.maxResidual);
         maxPenetration = std::max(maxPenetration, st.maxPenetration);
         if (s == snapshot.at) replay::writeFileAtomic(snapshot.path, world.snapshot());
-        if (hashEvery > 0 && s % hashEvery == 0) {
-            char hex[17];
-            std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(world.stateHash()));
-            out << nlohmann::json{{"step", s}, {"hash", hex}}.dump() << "\n";
-        }
+        if (hashEvery > 0 && s % hashEvery == 0) out << nlohmann::json{{"step", s}, {"hash", hashHex(world.stateHash())}}.dump() << "\n";
     }
     nlohmann::json bodies = nlohmann::json::array();
     for (std::size_t i = 0; i < loaded.bodies.size(); ++i) {
@@ -45,11 +52,9 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
                           {"angular_velocity", s->angularVelocity},
                           {"awake", info->awake}});
     }
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(world.stateHash()));
     const nlohmann::json final = {
         {"steps", steps},
-        {"hash", hex},
+        {"hash", hashHex(world.stateHash())},
         {"bodies", bodies},
         {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots}, {"failed_islands", failed},
                    {"max_residual", maxResidual}, {"max_penetration", maxPenetration},

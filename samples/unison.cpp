@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     std::string sceneFile;
     int steps = 60;
     int hashEvery = 0;
-    auto* run = app.add_subcommand("run", "step a 2D scene and print state hashes and final body states");
+    auto* run = app.add_subcommand("run", "step a 2D or 3D scene and print state hashes and final body states");
     run->add_option("SCENE", sceneFile, "scene JSON file")->required();
     run->add_option("--steps", steps, "number of steps (default 60)")->check(CLI::NonNegativeNumber);
     run->add_option("--hash-every", hashEvery, "print {\"step\", \"hash\"} every K steps (0: never)")

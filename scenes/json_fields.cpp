@@ -73,4 +73,26 @@ const nlohmann::json& array(const nlohmann::json& v, const std::string& path) {
     return v;
 }
 
+Material material(const nlohmann::json& shape, const std::string& path) {
+    Material m;
+    m.density = numberOr(shape, path, "density", m.density);
+    m.friction = numberOr(shape, path, "friction", m.friction);
+    m.restitution = numberOr(shape, path, "restitution", m.restitution);
+    if (m.density < 0.0) fail(path + ".density", "must be >= 0");
+    if (m.friction < 0.0) fail(path + ".friction", "must be >= 0");
+    if (m.restitution < 0.0 || m.restitution > 1.0) fail(path + ".restitution", "must be in [0, 1]");
+    return m;
+}
+
+BodyKind bodyKind(const nlohmann::json& body, const std::string& path) {
+    const nlohmann::json* t = member(body, path, "type", false);
+    if (!t) return BodyKind::dynamicBody;
+    if (!t->is_string()) fail(path + ".type", "expected a string");
+    const std::string type = t->get<std::string>();
+    if (type == "static") return BodyKind::staticBody;
+    if (type == "kinematic") return BodyKind::kinematicBody;
+    if (type != "dynamic") fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
+    return BodyKind::dynamicBody;
+}
+
 }  // namespace unison::jsonio

@@ -41,4 +41,18 @@ std::vector<double> numbers(const nlohmann::json& v, const std::string& path, st
 /// An array (any length).
 const nlohmann::json& array(const nlohmann::json& v, const std::string& path);
 
+/// The material keys of a scene shape.
+struct Material {
+    double density = 1.0;      ///< kg per m^2 (2D) or m^3 (3D), >= 0
+    double friction = 0.6;     ///< >= 0
+    double restitution = 0.0;  ///< in [0, 1]
+};
+/// Reads "density", "friction" and "restitution" of a shape object (defaults above), checking their ranges.
+Material material(const nlohmann::json& shape, const std::string& path);
+
+/// Body kinds of the scene files, in the order of BodyType / BodyType3 (static_cast between them is exact).
+enum class BodyKind { staticBody = 0, kinematicBody = 1, dynamicBody = 2 };
+/// Reads a body's "type" ("static", "kinematic", "dynamic"; default dynamic).
+BodyKind bodyKind(const nlohmann::json& body, const std::string& path);
+
 }  // namespace unison::jsonio

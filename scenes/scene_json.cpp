@@ -6,6 +6,11 @@
 namespace unison::scenes {
 namespace {
 
+static_assert(int(BodyType::staticBody) == int(jsonio::BodyKind::staticBody) &&
+                  int(BodyType::kinematicBody) == int(jsonio::BodyKind::kinematicBody) &&
+                  int(BodyType::dynamicBody) == int(jsonio::BodyKind::dynamicBody),
+              "scene body kinds cast to the world's body types");
+
 using nlohmann::json;
 
 using jsonio::fail;
@@ -54,12 +59,10 @@ Shape2 readShape(const json& js, const std::string& path) {
     } else {
         fail(path + ".type", "unknown 2D shape type \"" + t + "\" (circle, box, polygon, segment)");
     }
-    s.density = numberOr(js, path, "density", 1.0);
-    s.friction = numberOr(js, path, "friction", 0.6);
-    s.restitution = numberOr(js, path, "restitution", 0.0);
-    if (s.density < 0.0) fail(path + ".density", "must be >= 0");
-    if (s.friction < 0.0) fail(path + ".friction", "must be >= 0");
-    if (s.restitution < 0.0 || s.restitution > 1.0) fail(path + ".restitution", "must be in [0, 1]");
+    const jsonio::Material mat = jsonio::material(js, path);
+    s.density = mat.density;
+    s.friction = mat.friction;
+    s.restitution = mat.restitution;
     return s;
 }
 
@@ -68,15 +71,7 @@ Shape2 readShape(const json& js, const std::string& path) {
 BodySpec2 readBody2(const json& jb, const std::string& path) {
     BodySpec2 spec;
     BodyDef2& bd = spec.def;
-    std::string type = "dynamic";
-    if (const json* t = member(jb, path, "type", false)) {
-        if (!t->is_string()) fail(path + ".type", "expected a string");
-        type = t->get<std::string>();
-    }
-    if (type == "static") bd.type = BodyType::staticBody;
-    else if (type == "kinematic") bd.type = BodyType::kinematicBody;
-    else if (type == "dynamic") bd.type = BodyType::dynamicBody;
-    else fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
+    bd.type = static_cast<BodyType>(jsonio::bodyKind(jb, path));
     bd.position = vecOr(jb, path, "position", {});
     bd.angle = numberOr(jb, path, "angle", 0.0);
     bd.linearVelocity = vecOr(jb, path, "linear_velocity", {});
@@ -91,7 +86,7 @@ BodySpec2 readBody2(const json& jb, const std::string& path) {
 LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldDef2& base) {
     const json* dim = member(scene, what, "dimension", true);
     if (!dim->is_number_integer()) fail(what + ".dimension", "expected 2 or 3");
-    if (dim->get<int>() != 2) fail(what + ".dimension", "only 2D scenes are supported so far (3D: issue 5)");
+    if (dim->get<int>() != 2) fail(what + ".dimension", "expected 2 here (3D scenes are read by loadScene3)");
     WorldDef2 def = base;
     def.gravity = vecOr(scene, what, "gravity", def.gravity);
     def.hz = numberOr(scene, what, "hz", def.hz);

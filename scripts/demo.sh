@@ -6,4 +6,5 @@ scripts/setup.sh
 scripts/build.sh
 out="${1:-out}"
 build/samples/unison_demo "$out"
-echo "Open $out/*.svg in a browser to see the pictures."
+build/samples/bunnies --quiet --out "$out/bunnies"   # the paper's figs. 4-5: SVG frames every 30 steps
+echo "Open $out/*.svg and $out/bunnies/*.svg in a browser to see the pictures."

@@ -5,7 +5,7 @@
 # scripts/determinism.sh)
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
-          libsiconos-numerics-dev)
+          libsiconos-numerics-dev libbullet-dev pkg-config)
 if [ "${1:-}" = "--determinism" ]; then
   packages+=(clang g++-aarch64-linux-gnu qemu-user)
 fi

@@ -37,6 +37,15 @@ std::string slurp(const std::string& path) {
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
+// Every line of `out` parsed as JSON.
+std::vector<nlohmann::json> jsonLines(const std::string& out) {
+    std::vector<nlohmann::json> lines;
+    std::size_t start = 0;
+    for (std::size_t end; (end = out.find('\n', start)) != std::string::npos; start = end + 1)
+        lines.push_back(nlohmann::json::parse(out.substr(start, end - start)));
+    return lines;
+}
+
 Run unison(const std::string& args) {
     const std::string out = tempPath("stdout"), err = tempPath("stderr");
     const std::string cmd = std::string(UNISON_CLI_PATH) + " " + args + " >" + out + " 2>" + err;
@@ -190,10 +199,7 @@ TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scene
     const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json";
     const Run r = unison("run " + scene + " --steps 4 --hash-every 2");
     REQUIRE(r.exitCode == 0);
-    std::vector<nlohmann::json> lines;
-    std::size_t start = 0;
-    for (std::size_t end; (end = r.out.find('\n', start)) != std::string::npos; start = end + 1)
-        lines.push_back(nlohmann::json::parse(r.out.substr(start, end - start)));
+    const std::vector<nlohmann::json> lines = jsonLines(r.out);
     REQUIRE(lines.size() == 3);
     CHECK(lines[0]["step"] == 2);
     CHECK(lines[1]["step"] == 4);
@@ -275,6 +281,41 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
         CHECK(e.err.find(fragment) != std::string::npos);
     }
     for (const std::string& f : {inputs, changed, rec, a, b, junk}) std::remove(f.c_str());
+}
+
+TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; bad 3D scenes exit 2") {
+    const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/mixed3d.json";
+    const Run r = unison("run " + scene + " --steps 120 --hash-every 60");
+    REQUIRE(r.exitCode == 0);
+    const std::vector<nlohmann::json> lines = jsonLines(r.out);
+    REQUIRE(lines.size() == 3);
+    const nlohmann::json& fin = lines[2];
+    REQUIRE(fin["bodies"].size() == 5);
+    CHECK(fin["bodies"][1]["orientation"].size() == 4);
+    // The cube rests on the plane (centre 0.5 up) and the pyramid hull on the cube (base 0.3 below its origin).
+    CHECK(fin["bodies"][1]["position"][1].get<double>() == doctest::Approx(0.5).epsilon(0.01));
+    CHECK(fin["bodies"][2]["position"][1].get<double>() == doctest::Approx(1.3).epsilon(0.01));
+    CHECK(fin["stats"]["failed_islands"] == 0);
+    CHECK(unison("run " + scene + " --steps 120 --hash-every 60").out == r.out);
+    const std::pair<const char*, const char*> bad[] = {
+        {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"sphere\", \"radius\": 0}]}]}", "radius"},
+        {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}]}]}", "unknown 3D shape"},
+        {"{\"dimension\": 3, \"bodies\": [{\"position\": [0, 0]}]}", "bodies[0].position"},
+        {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"mesh\", \"obj\": \"/nonexistent.obj\"}]}]}",
+         "nonexistent.obj"},
+        {"{\"dimension\": 3, \"bodies\": [{\"type\": \"dynamic\", \"shapes\": [{\"type\": \"plane\", \"normal\": [0, 1, 0]}]}]}",
+         "planes must be static"},
+    };
+    for (const auto& item : bad) {
+        const char* text = item.first;  // not a structured binding: clang 14 cannot capture those in CAPTURE
+        const char* fragment = item.second;
+        CAPTURE(text);
+        const std::string f = writeTemp("bad_scene3d.json", text);
+        const Run b = unison("run " + f);
+        CHECK(b.exitCode == 2);
+        CHECK(b.err.find(fragment) != std::string::npos);
+        std::remove(f.c_str());
+    }
 }
 
 }  // TEST_SUITE

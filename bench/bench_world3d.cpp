@@ -1,0 +1,261 @@
+// bench/bench_world3d.cpp — Unison's World3 against Bullet 3.24 (double precision) on the same 3D scenes, in one
+// run (issue 5): Bullet's sequential-impulse solver (SI) and Bullet's MLCP solver with btLemkeSolver.
+//
+// Scenes (scenes/make_scenes3d, sleeping off so every engine does the full work every step):
+//   stack   5 cubes of 1 m: resting centre heights after the run. Tolerance: every cube within 2 cm of Bullet SI's.
+//   spheres 5 balls dropped 4 m with e = 0, 1/4, ..., 1: apex of the first rebound, against the closed form e^2 h and
+//           against Bullet SI. Tolerance: 5 % of h (a bounce that starts inside a step may gain up to (1 + e) v dt).
+//   pile    100 cubes of 0.5 m dropped into a pen, twice: landing flat in 25 columns, and toppling into one heap
+//           (scenes::boxPile3Scene). Reported: step time of each engine, the ratios Unison / Bullet SI (target
+//           <= 2) and Bullet MLCP / Unison (target >= 10) over the steps all engines ran, the mean height of the
+//           cubes, and Unison's largest complementarity residual (target <= 1e-6). An engine that has used
+//           --budget-seconds of step time stops there (Unison and Bullet's MLCP take seconds per step once the pile
+//           is one island); the table says how many steps each ran.
+// Timings are steady_clock around each step() call. Benchmarks report; the exit code is 0 unless something threw.
+//
+// --validate (ctest's bullet_agreement) runs only the stack and the spheres and exits 1 outside a tolerance.
+//
+// Usage: bench_world3d [--quick] [--validate] [--pile-steps N] [--pile-boxes N] [--budget-seconds S] [--json FILE]
+#include "bullet_peer.h"
+#include "make_scenes3d.h"
+#include "scene_json3d.h"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace unison;
+using bench::BulletPeer;
+using bench::BulletSolver;
+using Clock = std::chrono::steady_clock;
+
+// One engine behind a common face: step, body centre, body velocity, and what it reports.
+struct Engine {
+    std::string name;
+    std::function<void()> step;
+    std::function<Vec3(int)> center;
+    std::function<Vec3(int)> velocity;
+    double seconds = 0.0;
+    double maxResidual = 0.0;
+    int failed = 0;
+    std::function<int()> fallbacks = [] { return 0; };
+};
+
+struct Engines {
+    scenes::LoadedScene3 unison;
+    std::unique_ptr<BulletPeer> si, mlcp;
+    std::vector<Engine> list;
+};
+
+Vec3 toVec(const std::array<double, 3>& a) { return Vec3(a[0], a[1], a[2]); }
+
+// Builds Unison, Bullet SI and (optionally) Bullet MLCP-Lemke on the same scene.
+std::unique_ptr<Engines> makeEngines(const nlohmann::json& scene, bool withMlcp) {
+    auto e = std::make_unique<Engines>();
+    e->unison = scenes::loadScene3(scene, "scene");
+    World3* w = e->unison.world.get();
+    const std::vector<BodyId> ids = e->unison.bodies;
+    Engine u;
+    u.name = "Unison (Lemke LCP)";
+    Engines* self = e.get();
+    u.step = [w, self] {
+        w->step();
+        self->list[0].maxResidual = std::max(self->list[0].maxResidual, w->stats().maxResidual);
+        self->list[0].failed += w->stats().failedIslands;
+    };
+    u.center = [w, ids](int i) { return w->state(ids[std::size_t(i)])->center; };
+    u.velocity = [w, ids](int i) { return w->state(ids[std::size_t(i)])->velocity; };
+    e->list.push_back(u);
+    for (BulletSolver kind : {BulletSolver::sequentialImpulse, BulletSolver::mlcpLemke}) {
+        if (kind == BulletSolver::mlcpLemke && !withMlcp) continue;
+        auto& peer = kind == BulletSolver::mlcpLemke ? e->mlcp : e->si;
+        peer = std::make_unique<BulletPeer>(scene, kind);
+        BulletPeer* p = peer.get();
+        Engine b;
+        b.name = BulletPeer::solverName(kind);
+        b.step = [p] { p->step(); };
+        b.center = [p](int i) { return toVec(p->center(i)); };
+        b.velocity = [p](int i) { return toVec(p->velocity(i)); };
+        b.fallbacks = [p] { return p->fallbacks(); };
+        e->list.push_back(b);
+    }
+    return e;
+}
+
+void timedStep(Engine& e) {
+    const auto t0 = Clock::now();
+    e.step();
+    e.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+nlohmann::json runStack(int steps) {
+    const int n = 5;
+    auto e = makeEngines(scenes::boxStack3Scene(n, false), true);
+    for (int s = 0; s < steps; ++s)
+        for (Engine& eng : e->list) timedStep(eng);
+    std::printf("\nstack: 5 cubes of 1 m, %d steps; resting centre heights (m)\n", steps);
+    std::printf("  %-30s", "box");
+    for (int i = 1; i <= n; ++i) std::printf(" %8d", i);
+    std::printf("\n");
+    nlohmann::json out = {{"steps", steps}};
+    double worst = 0.0;
+    for (Engine& eng : e->list) {
+        std::printf("  %-30s", eng.name.c_str());
+        for (int i = 1; i <= n; ++i) {
+            const double y = eng.center(i).y();
+            std::printf(" %8.4f", y);
+            out[eng.name].push_back(y);
+            if (&eng != &e->list[1]) continue;
+            worst = std::max(worst, std::fabs(y - e->list[0].center(i).y()));
+        }
+        std::printf("\n");
+    }
+    const bool ok = worst <= 0.02;
+    std::printf("  largest |Unison - Bullet SI| = %.4f m (tolerance 0.02 m): %s\n", worst, ok ? "within" : "OUTSIDE");
+    out["max_difference_vs_si"] = worst;
+    out["within_tolerance"] = ok;
+    return out;
+}
+
+nlohmann::json runSpheres(int steps) {
+    auto e = makeEngines(scenes::spheres3Scene(false), true);
+    const int n = 5;
+    const double h = 4.0, r = 0.5;
+    std::vector<std::vector<double>> apex(e->list.size(), std::vector<double>(n, -1.0));
+    std::vector<std::vector<int>> bounces(e->list.size(), std::vector<int>(n, 0));
+    std::vector<std::vector<double>> prevVy(e->list.size(), std::vector<double>(n, -1.0));
+    for (int s = 0; s < steps; ++s) {
+        for (std::size_t k = 0; k < e->list.size(); ++k) {
+            Engine& eng = e->list[k];
+            timedStep(eng);
+            for (int i = 0; i < n; ++i) {
+                const double vy = eng.velocity(i + 1).y();
+                if (prevVy[k][std::size_t(i)] < 0.0 && vy > 0.0) ++bounces[k][std::size_t(i)];
+                if (bounces[k][std::size_t(i)] == 1 && prevVy[k][std::size_t(i)] > 0.0 && vy <= 0.0 && apex[k][std::size_t(i)] < 0.0)
+                    apex[k][std::size_t(i)] = eng.center(i + 1).y() - r;
+                prevVy[k][std::size_t(i)] = vy;
+            }
+        }
+    }
+    std::printf("\nspheres: 5 balls dropped %.0f m, first rebound height (m) (-: no rebound)\n", h);
+    std::printf("  %-30s", "e");
+    for (int i = 0; i < n; ++i) std::printf(" %8.2f", i / 4.0);
+    std::printf("\n  %-30s", "closed form e^2 h");
+    for (int i = 0; i < n; ++i) std::printf(" %8.3f", (i / 4.0) * (i / 4.0) * h);
+    std::printf("\n");
+    nlohmann::json out = {{"steps", steps}};
+    double worstForm = 0.0, worstSi = 0.0;
+    for (std::size_t k = 0; k < e->list.size(); ++k) {
+        std::printf("  %-30s", e->list[k].name.c_str());
+        for (int i = 0; i < n; ++i) {
+            const double a = std::max(0.0, apex[k][std::size_t(i)]);
+            if (apex[k][std::size_t(i)] < 0.0) std::printf(" %8s", "-");
+            else std::printf(" %8.3f", a);
+            out[e->list[k].name].push_back(a);
+            if (k == 0) {
+                worstForm = std::max(worstForm, std::fabs(a - (i / 4.0) * (i / 4.0) * h));
+                worstSi = std::max(worstSi, std::fabs(a - std::max(0.0, apex[1][std::size_t(i)])));
+            }
+        }
+        std::printf("\n");
+    }
+    std::printf("  Unison: largest |apex - e^2 h| = %.3f m, largest |Unison - Bullet SI| = %.3f m (tolerance %.2f m = 5%% of h)\n",
+                worstForm, worstSi, 0.05 * h);
+    out["max_difference_closed_form"] = worstForm;
+    out["max_difference_vs_si"] = worstSi;
+    out["within_tolerance"] = worstForm <= 0.05 * h && worstSi <= 0.05 * h;
+    return out;
+}
+
+nlohmann::json runPile(int steps, int boxes, bool tumble, double budget) {
+    auto e = makeEngines(scenes::boxPile3Scene(boxes, tumble, false), true);
+    // Engines step in turn; one that has used `budget` seconds stops (a started step is never interrupted). Ratios
+    // are taken over the steps every engine ran.
+    std::vector<std::vector<double>> times(e->list.size());
+    for (int s = 0; s < steps; ++s) {
+        for (std::size_t k = 0; k < e->list.size(); ++k) {
+            Engine& eng = e->list[k];
+            if (eng.seconds >= budget) continue;
+            const double before = eng.seconds;
+            timedStep(eng);
+            times[k].push_back(eng.seconds - before);
+        }
+    }
+    std::size_t common = std::size_t(steps);
+    for (const auto& t : times) common = std::min(common, t.size());
+    auto firstSteps = [&](std::size_t k) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < common; ++i) sum += times[k][i];
+        return sum;
+    };
+    std::printf("\npile (%s): %d cubes of 0.5 m into a pen, up to %d steps (%.1f s), sleeping off, budget %.0f s per "
+                "engine\n", tumble ? "heap: cubes topple into one island" : "columns: cubes land flat, 25 islands", boxes,
+                steps, steps / 60.0, budget);
+    std::printf("  %-30s %7s %12s %14s %12s %10s\n", "engine", "steps", "ms/step", "mean height m", "residual", "fallbacks");
+    nlohmann::json out = {{"steps", steps}, {"boxes", boxes}, {"common_steps", common}};
+    for (std::size_t k = 0; k < e->list.size(); ++k) {
+        Engine& eng = e->list[k];
+        double mean = 0.0;
+        for (int i = 0; i < boxes; ++i) mean += eng.center(i + 2).y() / boxes;
+        char residual[32] = "-";
+        if (k == 0) std::snprintf(residual, sizeof residual, "%.1e", eng.maxResidual);
+        const int ran = int(times[k].size());
+        std::printf("  %-30s %7d %12.3f %14.4f %12s %10d\n", eng.name.c_str(), ran, 1e3 * eng.seconds / ran, mean, residual,
+                    eng.fallbacks());
+        out[eng.name] = {{"steps", ran}, {"ms_per_step", 1e3 * eng.seconds / ran}, {"mean_height", mean},
+                         {"fallbacks", eng.fallbacks()}};
+    }
+    const double u = firstSteps(0), si = firstSteps(1), mlcp = firstSteps(2);
+    std::printf("  over the first %zu steps: Unison / Bullet SI step time = %.2f (target <= 2): %s\n", common, u / si,
+                u / si <= 2.0 ? "met" : "NOT met");
+    std::printf("  over the first %zu steps: Bullet MLCP-Lemke / Unison step time = %.2f (target >= 10): %s\n", common,
+                mlcp / u, mlcp / u >= 10.0 ? "met" : "NOT met");
+    std::printf("  Unison largest complementarity residual = %.2e (target <= 1e-6): %s; islands whose friction LCP "
+                "failed: %d\n", e->list[0].maxResidual, e->list[0].maxResidual <= 1e-6 ? "met" : "NOT met", e->list[0].failed);
+    out["unison_over_si"] = u / si;
+    out["mlcp_over_unison"] = mlcp / u;
+    out["unison_max_residual"] = e->list[0].maxResidual;
+    out["unison_failed_islands"] = e->list[0].failed;
+    return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"bench_world3d: Unison World3 vs Bullet 3.24 (SI and MLCP-Lemke) on the shared 3D scenes"};
+    bool quick = false;
+    int pileSteps = 300, pileBoxes = 100;
+    double budget = 60.0;
+    std::string jsonFile;
+    bool validate = false;
+    app.add_flag("--quick", quick, "short runs (smoke test)");
+    app.add_flag("--validate", validate, "only the stack and spheres scenes; exit 1 when a tolerance is not met");
+    app.add_option("--pile-steps", pileSteps, "steps of the pile scene")->check(CLI::PositiveNumber);
+    app.add_option("--pile-boxes", pileBoxes, "cubes in the pile")->check(CLI::Range(1, 1000));
+    app.add_option("--budget-seconds", budget, "pile: an engine stops after this much step time")->check(CLI::PositiveNumber);
+    app.add_option("--json", jsonFile, "also write the results as JSON");
+    CLI11_PARSE(app, argc, argv);
+    if (quick) pileSteps = std::min(pileSteps, 30);
+    nlohmann::json results;
+    results["stack"] = runStack(quick ? 60 : 240);
+    results["spheres"] = runSpheres(quick ? 120 : 240);
+    if (validate) {
+        const bool ok = results["stack"]["within_tolerance"].get<bool>() && results["spheres"]["within_tolerance"].get<bool>();
+        std::printf("\nvalidation against Bullet SI and the closed forms: %s\n", ok ? "passed" : "FAILED");
+        return ok ? 0 : 1;
+    }
+    const int boxes = quick ? std::min(pileBoxes, 25) : pileBoxes;
+    results["pile_columns"] = runPile(pileSteps, boxes, false, quick ? std::min(budget, 5.0) : budget);
+    results["pile_heap"] = runPile(pileSteps, boxes, true, quick ? std::min(budget, 5.0) : budget);
+    if (!jsonFile.empty()) std::ofstream(jsonFile) << results.dump(1) << "\n";
+    return 0;
+}

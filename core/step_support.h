@@ -1,0 +1,80 @@
+// core/step_support.h — dimension-free pieces of a world step: the warm-start cache keyed by contact features, the
+// mapping between a friction LCP's basis and per-contact bit masks, begin/end touch events, and the canonical
+// state writer behind stateHash().
+//
+// Owns no world state; World3 uses it (World2 has the same logic inline and can move onto it).
+// Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key;
+// the writer appends fixed-width little-endian fields one at a time (never raw struct bytes), so the hash is the
+// same on every machine.
+#pragma once
+
+#include "body_store.h"
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace unison {
+
+/// One warm-start cache entry: a contact (body slots, shape indices, feature id) and which of its LCP unknowns were
+/// basic at the end of the step that made it (see basisMaskBits). 20 bytes of keys + 4 bytes of mask.
+struct ContactKey {
+    std::uint32_t slotA = 0, slotB = 0;
+    std::uint16_t shapeA = 0, shapeB = 0;
+    std::uint32_t feature = 0;
+    std::uint32_t basicMask = 0;
+    /// Order by (slotA, slotB, shapeA, shapeB, feature); the mask is not part of the key.
+    bool operator<(const ContactKey& o) const;
+    bool sameKey(const ContactKey& o) const;
+};
+
+/// Previous-step contacts, sorted by key.
+class WarmStartCache {
+public:
+    /// The entry with the same key, or nullptr.
+    const ContactKey* find(const ContactKey& key) const;
+    /// Replaces the contents with `entries` (sorted here).
+    void replace(std::vector<ContactKey>& entries);
+    const std::vector<ContactKey>& entries() const { return mEntries; }
+
+private:
+    std::vector<ContactKey> mEntries;
+};
+
+/// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
+/// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).
+/// Appends the LCP indices that `mask` marks basic for contact ci to `outBasis`.
+void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vector<int>& outBasis);
+/// Sets the mask bits of the contacts [first, first + nc) of `entries` from a solved basis. `friction` false: the
+/// basis belongs to the frictionless LCP (indices are contacts).
+void storeBasis(const std::vector<int>& basis, int nc, int k, bool friction, ContactKey* first);
+
+/// Key of a body id for touch pairs: generation in the high half, slot + 1 in the low half.
+std::uint64_t touchKey(BodyId id);
+/// Body id of a touchKey.
+BodyId touchId(std::uint64_t key);
+
+/// Two bodies started (begin) or stopped (end) touching.
+struct TouchEvent {
+    BodyId a, b;
+};
+
+/// Touching body pairs (a < b by touchKey), sorted and unique.
+using TouchPairs = std::vector<std::pair<std::uint64_t, std::uint64_t>>;
+/// Sorts and de-duplicates pairs; writes the pairs in `now` but not in `before` to outBegin and the reverse to outEnd.
+void touchEvents(TouchPairs& now, const TouchPairs& before, std::vector<TouchEvent>& outBegin,
+                 std::vector<TouchEvent>& outEnd);
+
+/// Canonical little-endian serialisation for state hashes.
+class StateWriter {
+public:
+    void u64(std::uint64_t v);
+    void f64(double v);
+    /// XXH3 64-bit hash of everything written.
+    std::uint64_t hash() const;
+
+private:
+    std::vector<unsigned char> mBuf;
+};
+
+}  // namespace unison

@@ -1,0 +1,162 @@
+// resolver3d/world3d.h — the 3D world: bodies with shapes, and the step of DESIGN.md (the same step as World2).
+//
+// Owns: the body store (generational ids, hot state separate from cold data), the contacts found each step, their
+// warm-start cache keyed by feature ids, islands, sleeping, and the per-step events and statistics.
+// The step: gravity into velocities; broadphase (sort and sweep, index order); narrowphase manifolds (<= 4 points
+// per pair, stable feature ids; meshes through sphere trees); islands by union-find over dynamic bodies (core/
+// island); per island one Coulomb-pyramid LCP with >= 4 tangent directions per contact, built by the paper's
+// resolver (core/contact_resolver) and solved by Lemke, warm-started from the previous step's basis; impulses
+// applied; positions and unit quaternions integrated; events recorded.
+// Invariants: every loop runs in body, shape or contact index order; no unordered containers; no libm
+// transcendental function (quaternions are integrated and normalised with + - * / sqrt).
+#pragma once
+
+#include "body_store.h"
+#include "collide3d.h"
+#include "lcp.h"
+#include "shapes3d.h"
+#include "step_support.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace unison {
+
+/// Body kinds of the 3D world (static: never moves; kinematic: moves with its velocity, infinite mass).
+enum class BodyType3 : std::uint8_t { staticBody, kinematicBody, dynamicBody };
+
+/// How to create a body. Velocities in m/s and rad/s (world axes).
+struct BodyDef3 {
+    BodyType3 type = BodyType3::dynamicBody;
+    Vec3 position = Vec3::Zero();        ///< origin of the body frame (m)
+    Quat orientation;                    ///< unit quaternion (normalised on creation)
+    Vec3 linearVelocity = Vec3::Zero();  ///< of the centre of mass
+    Vec3 angularVelocity = Vec3::Zero();
+};
+
+/// World settings (the same meaning as WorldDef2's).
+struct WorldDef3 {
+    Vec3 gravity{0.0, -10.0, 0.0};       ///< m/s^2 (y up, as in the 2D world)
+    double hz = 60.0;                    ///< steps per second
+    double restitutionThreshold = 1.0;   ///< approach speeds below this (m/s) use e = 0
+    double linearSlop = 0.005;           ///< allowed penetration (m)
+    double baumgarte = 0.2;              ///< fraction of the penetration beyond the slop removed per step
+    double maxCorrectionSpeed = 3.0;     ///< cap of the position-correction velocity (m/s)
+    double speculativeDistance = 0.02;   ///< contacts this far apart are already in the LCP (m)
+    double tangentDeadZone = 1e-8;       ///< tangential speeds below this (m/s) are exactly 0 in the friction LCP
+    int frictionDirections = 4;          ///< tangent directions of the pyramid (even, >= 4)
+    bool enableSleep = true;
+    double linearSleepTolerance = 0.01;  ///< m/s
+    double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
+    double timeToSleep = 0.5;            ///< s
+    LcpOptions lcp;                      ///< per-island solver options; maxPivots 0 = 2n + 100 per island LCP
+};
+
+/// Hot per-body state: the only thing the solver writes. 16 doubles, 128 bytes, no padding.
+struct BodyState3 {
+    Vec3 position = Vec3::Zero();         ///< body origin (m)
+    Quat rotation;                        ///< unit quaternion, body to world
+    Vec3 center = Vec3::Zero();           ///< world centre of mass (m)
+    Vec3 velocity = Vec3::Zero();         ///< centre-of-mass velocity (m/s)
+    Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world axes
+};
+
+/// Cold per-body data.
+struct BodyInfo3 {
+    BodyType3 type = BodyType3::dynamicBody;
+    double mass = 0.0, invMass = 0.0;        ///< kg, 1/kg
+    Mat3 inertia = Mat3::Zero();             ///< about the centre of mass, body axes (kg m^2)
+    Mat3 invInertia = Mat3::Zero();          ///< its inverse (body axes)
+    Vec3 localCenter = Vec3::Zero();         ///< centre of mass in the body frame (m)
+    std::vector<Shape3> shapes;              ///< in body-frame coordinates
+    double sleepTime = 0.0;                  ///< s spent below the sleep tolerances
+    bool awake = true;
+};
+
+/// A contact point after the step (for events, drawing and tests).
+struct ContactPoint3 {
+    BodyId a, b;                         ///< the normal points away from b towards a
+    Vec3 point = Vec3::Zero(), normal = Vec3::Zero();
+    double separation = 0.0;             ///< m, negative when overlapping
+    double normalImpulse = 0.0;          ///< N s
+    Vec3 tangentImpulse = Vec3::Zero();  ///< N s, world frame
+    std::uint32_t featureId = 0;
+};
+
+/// Two bodies started (begin) or stopped (end) touching this step.
+using ContactEvent3 = TouchEvent;
+
+/// What the last step did.
+struct StepStats3 {
+    int islands = 0, awakeIslands = 0, contacts = 0;
+    int candidates = 0;               ///< narrowphase points before the reduction to <= 4 per pair
+    int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
+    std::uint64_t work = 0;
+    double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
+    int failedIslands = 0;            ///< islands whose friction LCP did not solve (the frictionless LCP was used)
+    int unsolvedIslands = 0;          ///< islands that got no impulse at all (both LCPs failed)
+    double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
+};
+
+class World3 {
+public:
+    explicit World3(const WorldDef3& def = {});
+
+    /// Creates a body with its shapes (body frame). Returns a null id and a message when the definition is invalid
+    /// (non-finite values, a dynamic body without mass, a plane on a moving body, capacity); the world is unchanged.
+    BodyId createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error = nullptr);
+    /// Removes a body; false for a stale or null id.
+    bool destroyBody(BodyId id);
+
+    /// Advances by one step of 1/hz seconds.
+    void step();
+
+    int bodyCount() const { return mBodies.size(); }
+    bool valid(BodyId id) const { return mBodies.valid(id); }
+    const BodyState3* state(BodyId id) const;
+    const BodyInfo3* info(BodyId id) const;
+    /// The body's transform (origin and rotation matrix); identity for an invalid id.
+    Transform3 transform(BodyId id) const;
+    /// Sets the velocity of a body (wakes it). False for static bodies, invalid ids or non-finite values.
+    bool setVelocity(BodyId id, const Vec3& v, const Vec3& w);
+    void setGravity(const Vec3& g) { mDef.gravity = g; }
+    const WorldDef3& def() const { return mDef; }
+
+    /// Keeps every narrowphase candidate point of the next steps (for drawing the paper's fig. 5).
+    void captureCandidates(bool on) { mCapture = on; }
+    const std::vector<ManifoldPoint3>& candidates() const { return mCandidates; }
+
+    std::vector<BodyId> bodyIds() const;
+    const std::vector<ContactPoint3>& contacts() const { return mContactPoints; }
+    const std::vector<ContactEvent3>& beginEvents() const { return mBegin; }
+    const std::vector<ContactEvent3>& endEvents() const { return mEnd; }
+    const StepStats3& stats() const { return mStats; }
+    std::uint64_t stepCount() const { return mStepCount; }
+
+    /// 64-bit hash (XXH3) of a canonical, field-by-field serialisation of the simulation state.
+    std::uint64_t stateHash() const;
+
+private:
+    struct Contact;
+    void collideAll(std::vector<Contact>& out);
+    void solveIsland(const std::vector<int>& bodies, const std::vector<int>& contactIdx, std::vector<Contact>& contacts,
+                     std::vector<ContactKey>& newCache);
+    ContactKey keyOf(const Contact& c) const;
+    void integrate(int dense, double dt);
+
+    WorldDef3 mDef;
+    BodyStore<BodyState3, BodyInfo3> mBodies;
+    LemkeSolver mSolver;
+    WarmStartCache mCache;
+    std::vector<ContactPoint3> mContactPoints;
+    TouchPairs mTouching;  // body pairs touching last step
+    std::vector<ContactEvent3> mBegin, mEnd;
+    std::vector<int> mLocalIndex;  // dense body -> index in the island being solved (-1 outside)
+    bool mCapture = false;
+    std::vector<ManifoldPoint3> mCandidates;
+    StepStats3 mStats;
+    std::uint64_t mStepCount = 0;
+};
+
+}  // namespace unison

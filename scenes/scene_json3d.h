@@ -1,0 +1,36 @@
+// scenes/scene_json3d.h — reads 3D scene JSON (DESIGN.md keys) into a World3.
+//
+// Owns: the 3D side of the scene contract: {"dimension": 3, "gravity": [x, y, z], "hz", "restitution_threshold",
+// "sleep", "friction_directions", "bodies": [{"type", "position": [x, y, z], "orientation": [w, x, y, z],
+// "linear_velocity", "angular_velocity", "shapes": [...]}]}. Shapes: sphere (radius, center), box (half_extents,
+// center), hull (vertices), plane (normal, offset), mesh (vertices + triangles, or obj: a path relative to the
+// scene file; optional scale), each with density, friction, restitution.
+// Invariants: a scene that fails to load leaves no partial world behind; messages name the exact key.
+#pragma once
+
+#include "json_fields.h"
+#include "world3d.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace unison::scenes {
+
+/// A loaded 3D scene: the world and the ids of its bodies in file order.
+struct LoadedScene3 {
+    std::unique_ptr<World3> world;
+    std::vector<BodyId> bodies;
+};
+
+/// Builds a 3D world from scene JSON. `what` names the source in messages; `baseDir` resolves relative `obj`
+/// paths (empty: the current directory). Throws jsonio::JsonError.
+LoadedScene3 loadScene3(const nlohmann::json& scene, const std::string& what, const std::string& baseDir = "",
+                        const WorldDef3& base = {});
+
+/// Reads one 3D shape object (exposed for tools that build bodies themselves).
+Shape3 readShape3(const nlohmann::json& js, const std::string& path, const std::string& baseDir);
+
+}  // namespace unison::scenes

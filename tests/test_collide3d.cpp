@@ -1,0 +1,115 @@
+// tests/test_collide3d.cpp — 3D narrowphase: manifold sizes, normals, separations and stable feature ids, the
+// reduction to four points, and the broadphase contract.
+#include "test_support.h"
+
+#include "broadphase3d.h"
+#include "collide3d.h"
+
+#include <cmath>
+
+using namespace unison;
+
+namespace {
+
+Shape3 box(double h) {
+    Shape3 s;
+    REQUIRE(makeBox(Vec3(h, h, h), Vec3::Zero(), &s).empty());
+    return s;
+}
+
+Transform3 at(const Vec3& p, const Quat& q = Quat{}) { return Transform3{p, toMatrix(q)}; }
+
+}  // namespace
+
+TEST_SUITE("collide3d") {
+
+TEST_CASE("box resting flat on a box: 4 face points, normal from B to A, ids stable under small motion") {
+    const Shape3 a = box(0.5), b = box(1.0);
+    const Manifold3 m = collide(a, at(Vec3(0.1, 1.49, 0.2)), b, at(Vec3::Zero()), 0.02);
+    REQUIRE(m.count == 4);
+    for (int i = 0; i < 4; ++i) {
+        CHECK(m.points[std::size_t(i)].normal.isApprox(Vec3(0, 1, 0)));
+        CHECK(m.points[std::size_t(i)].separation == doctest::Approx(-0.01));
+        CHECK(m.points[std::size_t(i)].point.y() == doctest::Approx(0.995));
+    }
+    const Manifold3 m2 = collide(a, at(Vec3(0.11, 1.488, 0.19)), b, at(Vec3::Zero()), 0.02);
+    REQUIRE(m2.count == 4);
+    for (int i = 0; i < 4; ++i) CHECK(m2.points[std::size_t(i)].id == m.points[std::size_t(i)].id);
+    // Beyond the speculative distance: nothing.
+    CHECK(collide(a, at(Vec3(0, 1.53, 0)), b, at(Vec3::Zero()), 0.02).count == 0);
+}
+
+TEST_CASE("box on a plane: the four lowest corners; a tilted box: one corner") {
+    Shape3 plane;
+    REQUIRE(makePlane(Vec3(0, 1, 0), 0.0, &plane).empty());
+    const Shape3 a = box(0.5);
+    CHECK(collide(a, at(Vec3(0, 0.499, 0)), plane, at(Vec3::Zero()), 0.0).count == 4);
+    const Quat tilt = multiply(axisAngle(Vec3(1, 0, 0), 0.3), axisAngle(Vec3(0, 0, 1), 0.4));
+    const Manifold3 m = collide(a, at(Vec3(0, 0.7, 0), tilt), plane, at(Vec3::Zero()), 0.02);
+    REQUIRE(m.count == 1);
+    const Mat3 r = toMatrix(tilt);
+    double lowest = 1e9;
+    for (const Vec3& v : a.poly->vertices) lowest = std::min(lowest, 0.7 + mul(r, v).y());
+    CHECK(m.points[0].separation == doctest::Approx(lowest));
+    // Swapped roles: the normal flips.
+    const Manifold3 s = collide(plane, at(Vec3::Zero()), a, at(Vec3(0, 0.7, 0), tilt), 0.02);
+    REQUIRE(s.count == 1);
+    CHECK(s.points[0].normal.isApprox(Vec3(0, -1, 0)));
+}
+
+TEST_CASE("edge against edge: crossed boxes touch at one point") {
+    const Shape3 a = box(0.5), b = box(0.5);
+    // A turned 45 degrees about x sits on B turned 45 degrees about z: their edges cross.
+    const double h = 0.5 * std::sqrt(2.0);
+    const Manifold3 m = collide(a, at(Vec3(0, 2.0 * h - 0.01, 0), axisAngle(Vec3(1, 0, 0), 0.25 * 3.141592653589793)), b,
+                                at(Vec3::Zero(), axisAngle(Vec3(0, 0, 1), 0.25 * 3.141592653589793)), 0.02);
+    REQUIRE(m.count == 1);
+    CHECK(m.points[0].normal.isApprox(Vec3(0, 1, 0), 1e-9));
+    CHECK(m.points[0].separation == doctest::Approx(-0.01).epsilon(1e-9));
+    CHECK(m.points[0].point.isApprox(Vec3(0, h - 0.005, 0), 1e-9));
+}
+
+TEST_CASE("spheres: sphere-sphere and sphere-box (face, edge) distances") {
+    Shape3 s1, s2;
+    REQUIRE(makeSphere(Vec3::Zero(), 0.5, &s1).empty());
+    REQUIRE(makeSphere(Vec3::Zero(), 0.25, &s2).empty());
+    const Manifold3 ss = collide(s1, at(Vec3(0.7, 0, 0)), s2, at(Vec3::Zero()), 0.0);
+    REQUIRE(ss.count == 1);
+    CHECK(ss.points[0].separation == doctest::Approx(-0.05));
+    CHECK(ss.points[0].normal.isApprox(Vec3(1, 0, 0)));
+    const Shape3 b = box(1.0);
+    const Manifold3 face = collide(s1, at(Vec3(0.2, 1.4, 0.3)), b, at(Vec3::Zero()), 0.0);
+    REQUIRE(face.count == 1);
+    CHECK(face.points[0].separation == doctest::Approx(-0.1));
+    CHECK(face.points[0].normal.isApprox(Vec3(0, 1, 0)));
+    const Manifold3 edge = collide(b, at(Vec3::Zero()), s1, at(Vec3(1.3, 1.3, 0)), 0.0);
+    REQUIRE(edge.count == 1);
+    CHECK(edge.points[0].separation == doctest::Approx(0.3 * std::sqrt(2.0) - 0.5));
+    CHECK(edge.points[0].normal.isApprox(Vec3(-1, -1, 0).normalized()));
+}
+
+TEST_CASE("reduceToFour keeps the deepest point and spans the largest area") {
+    std::vector<ManifoldPoint3> c;
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j) c.push_back({Vec3(i, 0, j), Vec3::UnitY(), -0.01 * (i == 2 && j == 3 ? 2 : 1), std::uint32_t(5 * i + j)});
+    const auto r = reduceToFour(c);
+    REQUIRE(r.size() == 4);
+    CHECK(r[0].id == 13);  // deepest
+    // The other three are corners of the 5 x 5 grid: farthest from (2,3) is (0,0); then the quad spans the most area.
+    for (std::size_t i = 1; i < 4; ++i) {
+        const Vec3& p = r[i].point;
+        CHECK(((p.x() == 0 || p.x() == 4) && (p.z() == 0 || p.z() == 4)));
+    }
+}
+
+TEST_CASE("broadphase: sorted pairs, inactive pairs skipped, invalid boxes ignored") {
+    std::vector<Aabb3> boxes{{Vec3(0, 0, 0), Vec3(1, 1, 1)}, {Vec3(0.5, 0.5, 0.5), Vec3(2, 2, 2)},
+                             {Vec3(0.9, 0.9, 5), Vec3(3, 3, 6)}, {Vec3(-1, -1, -1), Vec3(5, 5, 5)},
+                             {Vec3(NAN, 0, 0), Vec3(1, 1, 1)}};
+    const auto pairs = findPairs3(boxes, {0, 0, 0, 1, 0});
+    const std::vector<std::pair<int, int>> want{{0, 1}, {0, 3}, {1, 3}, {2, 3}};
+    CHECK(pairs == want);
+    CHECK_THROWS(findPairs3(boxes, {0}));
+}
+
+}  // TEST_SUITE

@@ -1,0 +1,69 @@
+// tests/test_step_support.cpp — core/step_support: warm-start masks round-trip through an LCP basis, the cache
+// finds entries by key only, touch events are set differences, the state writer is little-endian and field-wise.
+#include "test_support.h"
+
+#include "step_support.h"
+
+#include <algorithm>
+#include <cmath>
+
+using namespace unison;
+
+TEST_SUITE("step_support") {
+
+TEST_CASE("a basis stored as masks comes back as the same basis") {
+    const int nc = 3, k = 4;
+    // normal 1, tangent 2 of contact 0 (index 3 + 0*4 + 2), slack of contact 2 (3 + 12 + 2).
+    const std::vector<int> basis{1, 5, 17};
+    std::vector<ContactKey> keys(3);
+    storeBasis(basis, nc, k, true, keys.data());
+    CHECK(keys[0].basicMask == (2u << 2));
+    CHECK(keys[1].basicMask == 1u);
+    CHECK(keys[2].basicMask == (2u << k));
+    std::vector<int> back;
+    for (int ci = 0; ci < nc; ++ci) appendWarmBasis(keys[std::size_t(ci)].basicMask, ci, nc, k, back);
+    std::sort(back.begin(), back.end());
+    CHECK(back == basis);
+    std::vector<ContactKey> plain(3);
+    storeBasis({0, 2}, nc, k, false, plain.data());  // frictionless basis: indices are contacts
+    CHECK(plain[0].basicMask == 1u);
+    CHECK(plain[1].basicMask == 0u);
+    CHECK(plain[2].basicMask == 1u);
+}
+
+TEST_CASE("cache lookup ignores the mask; events are begin = now - before, end = before - now") {
+    std::vector<ContactKey> entries{{2, 1, 0, 0, 7, 5}, {1, 2, 0, 0, 9, 3}};
+    WarmStartCache cache;
+    cache.replace(entries);
+    REQUIRE(cache.entries().size() == 2);
+    CHECK(cache.entries()[0].slotA == 1);
+    const ContactKey* hit = cache.find({2, 1, 0, 0, 7, 0});
+    REQUIRE(hit != nullptr);
+    CHECK(hit->basicMask == 5u);
+    CHECK(cache.find({2, 1, 0, 1, 7, 5}) == nullptr);
+    const BodyId a{1, 1}, b{2, 1}, c{3, 2};
+    TouchPairs now{{touchKey(b), touchKey(c)}, {touchKey(a), touchKey(b)}, {touchKey(a), touchKey(b)}};
+    const TouchPairs before{{touchKey(a), touchKey(b)}, {touchKey(a), touchKey(c)}};
+    std::vector<TouchEvent> begin, end;
+    touchEvents(now, before, begin, end);
+    CHECK(now.size() == 2);
+    REQUIRE(begin.size() == 1);
+    CHECK((begin[0].a == b && begin[0].b == c));
+    REQUIRE(end.size() == 1);
+    CHECK((end[0].a == a && end[0].b == c));
+    CHECK(touchId(touchKey(c)) == c);
+}
+
+TEST_CASE("state writer: equal fields give equal hashes, one bit of difference changes it") {
+    StateWriter w1, w2, w3;
+    for (StateWriter* w : {&w1, &w2}) {
+        w->u64(42);
+        w->f64(0.1);
+    }
+    w3.u64(42);
+    w3.f64(std::nextafter(0.1, 1.0));
+    CHECK(w1.hash() == w2.hash());
+    CHECK(w1.hash() != w3.hash());
+}
+
+}  // TEST_SUITE
