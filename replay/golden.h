@@ -16,10 +16,13 @@ struct GoldenScene {
     std::string name;     ///< "pyramid", "restitution_row", "mixed_pile", "cradle"
     nlohmann::json scene; ///< scene JSON (from scenes/)
     int steps = 0;        ///< ticks stepped
+    /// "dimension": 3 (World3; no snapshot/restore check, 3D snapshots are not implemented).
+    bool is3d() const;
 };
 
-/// The golden scenes: a 10-row testbed pyramid (sleep off, so every tick solves its LCP warm-started), the restitution row, a pile of circles, boxes and polygons in a
-/// box, and the 5-ball cradle. Throws on a missing scene file.
+/// The golden scenes: a 10-row testbed pyramid (sleep off, so every tick solves its LCP warm-started), the
+/// restitution row, a pile of circles, boxes and polygons in a box, the 5-ball cradle; in 3D a toppling box heap,
+/// bouncing spheres and two sphere-tree bunnies on the paper's ramps. Throws on a missing scene file.
 std::vector<GoldenScene> goldenScenes();
 
 /// XXH3 of a run's tick hashes (each as little-endian u64): one value that covers every tick.
@@ -29,7 +32,8 @@ std::uint64_t chainHash(const std::vector<std::uint64_t>& hashes);
 std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene);
 
 /// Snapshots a golden scene at tick steps/3, restores it into a fresh world, steps that one to the end and returns
-/// the first tick whose hash differs from `hashes` (goldenHashes' result), or -1 when every tick matches.
+/// the first tick whose hash differs from `hashes` (goldenHashes' result), or -1 when every tick matches (and for
+/// 3D scenes, which have no snapshots).
 int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes);
 
 }  // namespace unison::replay

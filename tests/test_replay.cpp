@@ -39,6 +39,9 @@ const Golden kGolden[] = {
     {"restitution_row", 240, 0xc98c47d036c30a03ull, 0xf03637a6640832bbull},
     {"mixed_pile", 300, 0x72a6a187fd4b8771ull, 0x06c578802f872821ull},
     {"cradle", 120, 0xc66da8ad96296b15ull, 0x48ca7025497361c8ull},
+    {"box_heap3d", 180, 0xe52792aa4d24ca42ull, 0xd6190a4e904ac274ull},
+    {"spheres3d", 180, 0x03b033a5d44d4ca9ull, 0xc8c76a9ef2d80bd4ull},
+    {"bunnies3d", 240, 0x1ff9822bb5ad2d97ull, 0xfdecedd56e360a95ull},
 };
 // ==================================================================================================================
 
@@ -93,6 +96,7 @@ TEST_CASE("golden scenes: the hash after every tick matches the golden table") {
         // A second world steps to the same bits.
         CHECK(goldenHashes(scene) == hashes);
         CHECK(firstRestoreMismatch(scene, hashes) == -1);  // what unison_golden checks in every build
+        if (scene.is3d()) continue;  // 3D snapshots are not implemented: there is no restore to check
         std::vector<std::uint64_t> tampered = hashes;
         tampered[std::size_t(g.steps) - 1] ^= 1u;
         CHECK(firstRestoreMismatch(scene, tampered) == g.steps - 1);
@@ -164,6 +168,7 @@ TEST_CASE("snapshot at tick k, restore into a fresh world, continue: every tick'
     for (const Golden& g : kGolden) {
         CAPTURE(std::string(g.name));
         const GoldenScene& scene = golden(g.name);
+        if (scene.is3d()) continue;  // 2D only: 3D snapshots are not implemented
         scenes::LoadedScene2 original = scenes::loadScene2(scene.scene, g.name);
         const int k = scene.steps / 3;
         for (int t = 0; t < k; ++t) original.world->step();
