@@ -41,132 +41,37 @@ std::uint64_t basisKey(int index, bool isRow) {
 }
 
 // The guessed basis is usually exactly right (the previous step's basis, matched through contact ids). Checking it
-// needs only A_{alpha,alpha}^-1 b_alpha, which a sparse LU gives in O(nnz)-ish work; the dense block inverse that
-// further pivots would need is built only when the guess turns out wrong. True when `out` holds the solution.
-// A_{alpha,alpha} of a guessed basis, factorised once for a solve and one refinement: a dense LU with partial
-// pivoting for small blocks (Eigen's sparse LU costs more than the whole solve there: a one-contact island has a
-// 2 x 2 block), Eigen's sparse LU otherwise.
-class BlockFactor {
-public:
-    static constexpr int kDenseMax = 48;
-
-    bool factor(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const std::vector<int>& pos) {
-        k = int(guess.size());
-        dense = k <= kDenseMax;
-        if (dense) {
-            a.assign(std::size_t(k) * std::size_t(k), 0.0);
-            perm.resize(std::size_t(k));
-            double scale = 0.0;
-            for (int q = 0; q < k; ++q) {
-                const int i = guess[std::size_t(q)];
-                for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
-                    const int c = pos[std::size_t(ws.rowCol[std::size_t(t)])];
-                    if (c < 0) continue;
-                    at(q, c) = ws.rowVal[std::size_t(t)];
-                    scale = std::max(scale, std::fabs(ws.rowVal[std::size_t(t)]));
-                }
-            }
-            for (int c = 0; c < k; ++c) {
-                int best = c;
-                for (int r = c + 1; r < k; ++r) {
-                    if (std::fabs(at(r, c)) > std::fabs(at(best, c))) best = r;
-                }
-                perm[std::size_t(c)] = best;
-                if (!(std::fabs(at(best, c)) > 1e-14 * scale)) return false;
-                if (best != c) {
-                    for (int j = 0; j < k; ++j) std::swap(at(best, j), at(c, j));
-                }
-                for (int r = c + 1; r < k; ++r) {
-                    const double f = at(r, c) / at(c, c);
-                    at(r, c) = f;
-                    if (f == 0.0) continue;
-                    for (int j = c + 1; j < k; ++j) at(r, j) -= f * at(c, j);
-                }
-            }
-            return true;
-        }
-        entries.clear();
-        for (int q = 0; q < k; ++q) {
-            const int i = guess[std::size_t(q)];
-            for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
-                const int c = pos[std::size_t(ws.rowCol[std::size_t(t)])];
-                if (c >= 0) entries.emplace_back(q, c, ws.rowVal[std::size_t(t)]);
-            }
-        }
-        Eigen::SparseMatrix<double> M(k, k);
-        M.setFromTriplets(entries.begin(), entries.end());
-        nonZeros = std::uint64_t(M.nonZeros());
-        sparse.compute(M);
-        return sparse.info() == Eigen::Success;
-    }
-
-    /// x := A^-1 x.
-    void solve(std::vector<double>& x) const {
-        if (!dense) {
-            Eigen::Map<Eigen::VectorXd> v(x.data(), k);
-            const Eigen::VectorXd y = sparse.solve(v);
-            v = y;
-            return;
-        }
-        for (int c = 0; c < k; ++c) std::swap(x[std::size_t(c)], x[std::size_t(perm[std::size_t(c)])]);
-        for (int r = 1; r < k; ++r) {
-            double s = x[std::size_t(r)];
-            for (int j = 0; j < r; ++j) s -= at(r, j) * x[std::size_t(j)];
-            x[std::size_t(r)] = s;
-        }
-        for (int r = k - 1; r >= 0; --r) {
-            double s = x[std::size_t(r)];
-            for (int j = r + 1; j < k; ++j) s -= at(r, j) * x[std::size_t(j)];
-            x[std::size_t(r)] = s / at(r, r);
-        }
-    }
-
-    std::uint64_t work() const { return dense ? std::uint64_t(k) * std::uint64_t(k) : nonZeros; }
-
-private:
-    double& at(int r, int c) { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
-    double at(int r, int c) const { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
-
-    int k = 0;
-    bool dense = true;
-    std::vector<double> a;
-    std::vector<int> perm;
-    std::vector<Eigen::Triplet<double>> entries;
-    std::uint64_t nonZeros = 0;
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse;
-};
-
-// The guessed basis is usually exactly right (the previous step's basis, matched through contact ids). Checking it
 // needs only A_{alpha,alpha}^-1 b_alpha (BlockFactor); the dense block inverse that further pivots would need is
 // built only when the guess turns out wrong. True when `out` holds the solution; else `corrected` is the guess a
 // block principal pivot would try next.
-bool trySparseBasis(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
+bool trySparseBasis(LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
                     double scale, LcpResult& out, std::vector<int>& corrected) {
     corrected.clear();
     const int n = ws.n;
     const int k = int(guess.size());
     std::vector<int> pos(std::size_t(n), -1);
     for (int q = 0; q < k; ++q) pos[std::size_t(guess[std::size_t(q)])] = q;
-    BlockFactor lu;
-    if (!lu.factor(ws, guess, pos)) return false;
+    BlockFactor& lu = ws.blockFactor;
+    if (!lu.factor(ws.rowStart, ws.rowCol, ws.rowVal, guess, pos)) return false;
     std::vector<double> z(static_cast<std::size_t>(k));
     for (int q = 0; q < k; ++q) z[std::size_t(q)] = -ws.b[guess[std::size_t(q)]];
     lu.solve(z);
     std::vector<double> w(static_cast<std::size_t>(n), 0.0);
-    auto computeW = [&]() {
-        // By rows, adding in ascending column order: the same sums as adding the basic columns one by one.
-        for (int i = 0; i < n; ++i) {
-            double s = ws.b[i];
-            for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
-                const int q = pos[std::size_t(ws.rowCol[std::size_t(t)])];
-                if (q >= 0) s += ws.rowVal[std::size_t(t)] * z[std::size_t(q)];
-            }
-            w[std::size_t(i)] = s;
+    auto rowW = [&](int i) {
+        // Adding in ascending column order: the same sum as adding the basic columns one by one.
+        double s = ws.b[i];
+        for (int t = ws.rowStart[std::size_t(i)]; t < ws.rowStart[std::size_t(i) + 1]; ++t) {
+            const int q = pos[std::size_t(ws.rowCol[std::size_t(t)])];
+            if (q >= 0) s += ws.rowVal[std::size_t(t)] * z[std::size_t(q)];
         }
+        return s;
     };
-    computeW();
-    std::vector<double> r(static_cast<std::size_t>(k));  // one step of iterative refinement: w_alpha should be exactly 0
-    for (int q = 0; q < k; ++q) r[std::size_t(q)] = w[std::size_t(guess[std::size_t(q)])];
+    auto computeW = [&]() {
+        for (int i = 0; i < n; ++i) w[std::size_t(i)] = rowW(i);
+    };
+    // One step of iterative refinement: w_alpha should be exactly 0 (only those rows are needed for it).
+    std::vector<double> r(static_cast<std::size_t>(k));
+    for (int q = 0; q < k; ++q) r[std::size_t(q)] = rowW(guess[std::size_t(q)]);
     lu.solve(r);
     for (int q = 0; q < k; ++q) z[std::size_t(q)] -= r[std::size_t(q)];
     computeW();
@@ -213,7 +118,7 @@ bool trySparseBasis(const LemkeSolver::Workspace& ws, const std::vector<int>& gu
 // The guess, corrected up to three times by block principal pivoting (drop basic z's that came out negative, add
 // rows whose w came out negative): a resting scene's basis often differs from last step's by a few degenerate
 // unknowns that flipped sign by rounding, and a sparse solve per round is far cheaper than Lemke pivots.
-bool trySparseWarmStart(const LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
+bool trySparseWarmStart(LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
                         double scale, LcpResult& out) {
     std::vector<int> current = guess, corrected;
     for (int round = 0; round < 4; ++round) {

@@ -34,6 +34,124 @@ struct Candidate {
 using lcp_detail::Candidate;
 using lcp_detail::kTiny;
 
+namespace lcp_detail {
+
+// A_{alpha,alpha} of a guessed basis, factorised once for a solve and one refinement: a dense LU with partial
+// pivoting for small blocks (Eigen's sparse LU costs more than the whole solve there: a one-contact island has a
+// 2 x 2 block), Eigen's sparse LU otherwise.
+class BlockFactor {
+public:
+    static constexpr int kDenseMax = 48;
+
+    /// Factorises A(guess, guess) of the compressed rows (rowStart, rowCol, rowVal); pos[j] is j's place in guess.
+    bool factor(const std::vector<int>& rowStart, const std::vector<int>& rowCol, const std::vector<double>& rowVal,
+                const std::vector<int>& guess, const std::vector<int>& pos) {
+        k = int(guess.size());
+        dense = k <= kDenseMax;
+        if (dense) {
+            a.assign(std::size_t(k) * std::size_t(k), 0.0);
+            perm.resize(std::size_t(k));
+            double scale = 0.0;
+            for (int q = 0; q < k; ++q) {
+                const int i = guess[std::size_t(q)];
+                for (int t = rowStart[std::size_t(i)]; t < rowStart[std::size_t(i) + 1]; ++t) {
+                    const int c = pos[std::size_t(rowCol[std::size_t(t)])];
+                    if (c < 0) continue;
+                    at(q, c) = rowVal[std::size_t(t)];
+                    scale = std::max(scale, std::fabs(rowVal[std::size_t(t)]));
+                }
+            }
+            for (int c = 0; c < k; ++c) {
+                int best = c;
+                for (int r = c + 1; r < k; ++r) {
+                    if (std::fabs(at(r, c)) > std::fabs(at(best, c))) best = r;
+                }
+                perm[std::size_t(c)] = best;
+                if (!(std::fabs(at(best, c)) > 1e-14 * scale)) return false;
+                if (best != c) {
+                    for (int j = 0; j < k; ++j) std::swap(at(best, j), at(c, j));
+                }
+                for (int r = c + 1; r < k; ++r) {
+                    const double f = at(r, c) / at(c, c);
+                    at(r, c) = f;
+                    if (f == 0.0) continue;
+                    for (int j = c + 1; j < k; ++j) at(r, j) -= f * at(c, j);
+                }
+            }
+            return true;
+        }
+        entries.clear();
+        for (int q = 0; q < k; ++q) {
+            const int i = guess[std::size_t(q)];
+            for (int t = rowStart[std::size_t(i)]; t < rowStart[std::size_t(i) + 1]; ++t) {
+                const int c = pos[std::size_t(rowCol[std::size_t(t)])];
+                if (c >= 0) entries.emplace_back(q, c, rowVal[std::size_t(t)]);
+            }
+        }
+        Eigen::SparseMatrix<double> M(k, k);
+        M.setFromTriplets(entries.begin(), entries.end());
+        M.makeCompressed();
+        nonZeros = std::uint64_t(M.nonZeros());
+        // A resting island checks the same pattern step after step: keep the fill-reducing ordering and symbolic
+        // analysis while the pattern is unchanged (the numbers come out the same as a fresh compute()).
+        const int* outer = M.outerIndexPtr();
+        const int* inner = M.innerIndexPtr();
+        const bool samePattern = analyzedSize == k && analyzedOuter.size() == std::size_t(k) + 1 &&
+                                 std::equal(outer, outer + k + 1, analyzedOuter.begin()) &&
+                                 analyzedInner.size() == std::size_t(M.nonZeros()) &&
+                                 std::equal(inner, inner + M.nonZeros(), analyzedInner.begin());
+        if (!samePattern) {
+            sparse.analyzePattern(M);
+            analyzedSize = k;
+            analyzedOuter.assign(outer, outer + k + 1);
+            analyzedInner.assign(inner, inner + M.nonZeros());
+        }
+        sparse.factorize(M);
+        if (sparse.info() != Eigen::Success) analyzedSize = -1;  // start afresh next time
+        return sparse.info() == Eigen::Success;
+    }
+
+    /// x := A^-1 x.
+    void solve(std::vector<double>& x) const {
+        if (!dense) {
+            Eigen::Map<Eigen::VectorXd> v(x.data(), k);
+            const Eigen::VectorXd y = sparse.solve(v);
+            v = y;
+            return;
+        }
+        for (int c = 0; c < k; ++c) std::swap(x[std::size_t(c)], x[std::size_t(perm[std::size_t(c)])]);
+        for (int r = 1; r < k; ++r) {
+            double s = x[std::size_t(r)];
+            for (int j = 0; j < r; ++j) s -= at(r, j) * x[std::size_t(j)];
+            x[std::size_t(r)] = s;
+        }
+        for (int r = k - 1; r >= 0; --r) {
+            double s = x[std::size_t(r)];
+            for (int j = r + 1; j < k; ++j) s -= at(r, j) * x[std::size_t(j)];
+            x[std::size_t(r)] = s / at(r, r);
+        }
+    }
+
+    std::uint64_t work() const { return dense ? std::uint64_t(k) * std::uint64_t(k) : nonZeros; }
+
+private:
+    double& at(int r, int c) { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
+    double at(int r, int c) const { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
+
+    int k = 0;
+    bool dense = true;
+    std::vector<double> a;
+    std::vector<int> perm;
+    std::vector<Eigen::Triplet<double>> entries;
+    std::uint64_t nonZeros = 0;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> sparse;
+    int analyzedSize = -1;
+    std::vector<int> analyzedOuter, analyzedInner;
+};
+
+}  // namespace lcp_detail
+using lcp_detail::BlockFactor;
+
 /// All per-solve state. Lives on the stack of solve(); the big buffers are borrowed from the solver object.
 struct LemkeSolver::Workspace {
     int n = 0;
@@ -44,6 +162,7 @@ struct LemkeSolver::Workspace {
     std::vector<int> colStart, colRow, rowStart, rowCol;
     std::vector<double> colVal, rowVal;
     bool columnsReady = false;      // colStart/colRow/colVal match the rows (see ensureColumns)
+    BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
     std::vector<double> binvStore;  // storage of Binv, kept between solves (grows, never shrinks)
     double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
