@@ -105,7 +105,9 @@ TEST_CASE("lcp: malformed files exit 2 with a message on stderr") {
         {"1 1 -1 7", "unexpected extra token"},
         {"1 nan -1", "not finite"},
     };
-    for (const auto& [text, fragment] : cases) {
+    for (const auto& item : cases) {
+        const auto& text = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad.txt", text);
         const Run r = unison("lcp " + f);
@@ -185,7 +187,9 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
          "\"contacts\": []}",
          "positive definite"},
     };
-    for (const auto& [text, fragment] : cases) {
+    for (const auto& item : cases) {
+        const auto& text = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad.json", text);
         const Run r = unison("resolve " + f);
@@ -218,7 +222,9 @@ TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scene
         {"{\"dimension\": 2, \"hz\": 0, \"bodies\": []}", "hz"},
         {"[1, 2", "malformed JSON"},
     };
-    for (const auto& [text, fragment] : bad) {
+    for (const auto& item : bad) {
+        const auto& text = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad_scene.json", text);
         const Run b = unison("run " + f);
@@ -274,7 +280,9 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
         {"run " + scene + " --steps 2 --snapshot-at 3 -o " + b, "after the last step"},
         {"record " + scene + " --inputs " + junk + " -o " + b, "malformed JSON"},
     };
-    for (const auto& [args, fragment] : bad) {
+    for (const auto& item : bad) {
+        const auto& args = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(args);
         const Run e = unison(args);
         CHECK(e.exitCode == 2);

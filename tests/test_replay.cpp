@@ -424,7 +424,9 @@ TEST_CASE("inputs: bad scripts and inputs that cannot be applied are errors that
         {R"({"inputs": [{"tick": 1, "type": "create_body", "body_def": {"shapes": [{"type": "circle", "radius": -1}]}}]})", "radius"},
         {R"({"input": []})", "inputs"},
     };
-    for (const auto& [text, fragment] : bad) {
+    for (const auto& item : bad) {
+        const auto& text = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(text);
         CHECK_THROWS_WITH_AS(parseInputs(nlohmann::json::parse(text), "in"), doctest::Contains(fragment), ReplayError);
     }
@@ -435,7 +437,9 @@ TEST_CASE("inputs: bad scripts and inputs that cannot be applied are errors that
         {R"({"inputs": [{"tick": 2, "type": "destroy_body", "body": 4}, {"tick": 3, "type": "set_velocity", "body": 4,
              "linear_velocity": [0, 1]}]})", "inputs[1] (tick 3): body 4 was destroyed"},
     };
-    for (const auto& [text, fragment] : unusable) {
+    for (const auto& item : unusable) {
+        const auto& text = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const auto& fragment = item.second;
         CAPTURE(text);
         const InputScript script = parseInputs(nlohmann::json::parse(text), "in");
         CHECK_THROWS_WITH_AS(record(pile, script, 5, 1), doctest::Contains(fragment), ReplayError);
