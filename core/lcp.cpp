@@ -379,13 +379,14 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     std::set<std::uint64_t> seenBases{basisHash};
     const int warmCap = std::max(100, maxPivots / 4);
     // Cycling (or a wandering warm path): restart with the remaining budget, at most `restartsLeft` times: cold
-    // from a warm run, else with a 100x larger perturbation (separating the ties that rounding confused).
+    // from a warm run, else with a 10x larger perturbation, at most 1e-2 (separating the ties that rounding confused).
     auto restart = [&](bool wandered) {
         if (restartsLeft <= 0)
             return finishWith(LcpStatus::pivot_limit, wandered ? "pivot cap reached" : "the pivot path cycles (rounding on a degenerate problem)");
         LcpOptions retry = options;
         retry.warmBasis = nullptr;
-        retry.degeneracyPerturbation = warm ? options.degeneracyPerturbation : std::max(options.degeneracyPerturbation, 1e-8) * 10.0;
+        retry.degeneracyPerturbation =
+            warm ? options.degeneracyPerturbation : std::min(1e-2, std::max(options.degeneracyPerturbation, 1e-8) * 10.0);
         retry.maxPivots = std::max(1, maxPivots - result.pivots);
         if (options.maxWork) retry.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
         LcpResult r = run(ws, b, retry, restartsLeft - 1);
@@ -648,7 +649,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             assembleSolution();
             if (result.status == LcpStatus::numerical_failure && perturbed) {
                 // The perturbed problem's basis is not exactly right for the true b: continue from it with a
-                // 1000x smaller perturbation (still breaking ties), then unperturbed.
+                // 10x smaller perturbation (still breaking ties), down to none below 1e-9.
                 LcpOptions exact = options;
                 exact.degeneracyPerturbation = options.degeneracyPerturbation > 1e-9 ? options.degeneracyPerturbation * 0.1 : 0.0;
                 exact.maxPivots = std::max(1, maxPivots - result.pivots);
