@@ -289,7 +289,7 @@ TEST_CASE("determinism: two runs give the same hash every step; the golden hash 
         REQUIRE(a.stateHash() == b.stateHash());
     }
     CHECK(a.stats().failedIslands == 0);
-    CHECK(a.stateHash() == 0x556e3910a3bd2137ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); scripts/determinism.sh checks the other builds
+    CHECK(a.stateHash() == 0x556e3910a3bd2137ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
 }
 
 TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide off both ramps and rest on the ground") {
