@@ -221,7 +221,9 @@ TEST_CASE("corrupt, truncated and foreign 3D snapshots are rejected and the live
 }
 
 TEST_CASE("World3::applyImpulse: dv = J / m and dw = I^-1 (r x J) for a sphere") {
-    World3 w(WorldDef3{Vec3::Zero()});
+    WorldDef3 zeroGravity;
+    zeroGravity.gravity = Vec3::Zero();
+    World3 w(zeroGravity);
     Shape3 ball;
     REQUIRE(makeSphere(Vec3::Zero(), 0.5, &ball).empty());
     ball.density = 2.0;
