@@ -144,6 +144,70 @@ TEST_CASE("bodies sharing one mesh share it after a restore, and the snapshot ho
     }
 }
 
+TEST_CASE("the 3D state hash covers settings, velocities, sleep timers, shapes and the id pool") {
+    scenes::LoadedScene3 base = mixed();
+    for (int t = 0; t < 10; ++t) base.world->step();
+    const std::vector<std::uint8_t> snap = base.world->snapshot();
+    const std::uint64_t h0 = base.world->stateHash();
+    auto fresh = [&] {
+        World3 w;
+        REQUIRE(w.restore(snap.data(), snap.size()));
+        REQUIRE(w.stateHash() == h0);
+        return w;
+    };
+    {
+        World3 w = fresh();
+        w.setGravity(Vec3(0.0, -10.0, 1e-12));
+        CHECK(w.stateHash() != h0);
+    }
+    {
+        // A body that has been slow for a while: setting its own velocities again only resets its sleep timer.
+        World3 w = fresh();
+        BodyId slow = BodyId::null();
+        for (BodyId id : base.bodies)
+            if (slow.isNull() && w.info(id)->sleepTime > 0.0) slow = id;
+        REQUIRE_FALSE(slow.isNull());
+        const BodyState3 s = *w.state(slow);
+        REQUIRE(w.setVelocity(slow, s.velocity, s.angularVelocity));
+        CHECK(w.info(slow)->sleepTime == 0.0);
+        CHECK(w.stateHash() != h0);
+    }
+    {
+        World3 w = fresh();
+        REQUIRE(w.destroyBody(base.bodies[4]));
+        const std::uint64_t gone = w.stateHash();
+        CHECK(gone != h0);
+        // Recreating it reuses the slot with the next generation: a different id pool, so a different hash.
+        BodyDef3 def;
+        def.position = base.world->state(base.bodies[4])->position;
+        def.orientation = base.world->state(base.bodies[4])->rotation;
+        const BodyId again = w.createBody(def, base.world->info(base.bodies[4])->shapes);
+        CHECK(again.index1 == base.bodies[4].index1);
+        CHECK(again.generation == base.bodies[4].generation + 1);
+        CHECK(w.stateHash() != h0);
+        CHECK(w.stateHash() != gone);
+    }
+    {
+        // The same bodies with one sphere 1e-12 m larger: the shapes are part of the state.
+        World3 w;
+        for (BodyId id : base.bodies) {
+            std::vector<Shape3> shapes = base.world->info(id)->shapes;
+            for (Shape3& sh : shapes)
+                if (sh.type == ShapeType3::sphere) sh.radius += 1e-12;
+            BodyDef3 def;
+            def.type = base.world->info(id)->type;
+            REQUIRE_FALSE(w.createBody(def, shapes).isNull());
+        }
+        World3 same;
+        for (BodyId id : base.bodies) {
+            BodyDef3 def;
+            def.type = base.world->info(id)->type;
+            REQUIRE_FALSE(same.createBody(def, base.world->info(id)->shapes).isNull());
+        }
+        CHECK(w.stateHash() != same.stateHash());
+    }
+}
+
 TEST_CASE("corrupt, truncated and foreign 3D snapshots are rejected and the live world is untouched") {
     scenes::LoadedScene3 live = mixed();
     scenes::LoadedScene3 twin = mixed();
