@@ -1,8 +1,8 @@
 // replay/recording.h — recorded matches (.urec): record, save, load, verify, and the desync report.
 //
 // Owns: Recording (the scene, the inputs, the state hash after every tick, full snapshots every K ticks and at the
-// last tick), its binary file format, and verification, which replays the recording through the same Session2 as
-// record() and compares every tick's hash.
+// last tick), its binary file format, and verification, which replays the recording through the same Session2 or
+// Session3 as record() and compares every tick's hash.
 // The file (little-endian, like core/state_io.h): magic "UNISREC\0", u32 format version, u64 result-affecting
 // build flags, the scene JSON text and the inputs JSON text (u64 length + bytes each), u32 steps, u32 snapshot
 // interval, u64 hash count + the hashes (ticks 0..steps), u64 snapshot count + (u32 tick, u64 length, bytes) each,
