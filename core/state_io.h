@@ -142,7 +142,7 @@ struct SnapshotView {
 };
 bool unframeSnapshot(const std::uint8_t* data, std::size_t size, SnapshotKind kind, SnapshotView* out, std::string* error);
 
-/// One named field of a canonical state, for snapshot diffs and desync reports (World2::stateFields()).
+/// One named field of a canonical state, for snapshot diffs and desync reports (World2/World3::stateFields()).
 struct StateField {
     BodyId body;             ///< the body the field belongs to; null for world-level fields
     std::string path;        ///< e.g. "velocity.x" (of `body`), "def.gravity.y", "cache[12].basicMask"

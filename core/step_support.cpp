@@ -1,10 +1,7 @@
 // core/step_support.cpp — see step_support.h.
 #include "step_support.h"
 
-#include <xxhash.h>
-
 #include <algorithm>
-#include <cstring>
 #include <iterator>
 
 namespace unison {
@@ -68,17 +65,5 @@ void touchEvents(TouchPairs& now, const TouchPairs& before, std::vector<TouchEve
     std::set_difference(before.begin(), before.end(), now.begin(), now.end(), std::back_inserter(diff));
     for (const auto& p : diff) outEnd.push_back({touchId(p.first), touchId(p.second)});
 }
-
-void StateWriter::u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) mBuf.push_back(static_cast<unsigned char>(v >> (8 * i)));
-}
-
-void StateWriter::f64(double v) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &v, sizeof bits);
-    u64(bits);
-}
-
-std::uint64_t StateWriter::hash() const { return XXH3_64bits(mBuf.data(), mBuf.size()); }
 
 }  // namespace unison

@@ -1,11 +1,9 @@
 // core/step_support.h — dimension-free pieces of a world step: the warm-start cache keyed by contact features, the
-// mapping between a friction LCP's basis and per-contact bit masks, begin/end touch events, and the canonical
-// state writer behind stateHash().
+// mapping between a friction LCP's basis and per-contact bit masks, and begin/end touch events. (World3's state
+// hash and snapshots are in resolver3d/world3d_state.cpp, on core/state_transfer.h.)
 //
 // Owns no world state; World3 uses it (World2 has the same logic inline and can move onto it).
-// Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key;
-// the writer appends fixed-width little-endian fields one at a time (never raw struct bytes), so the hash is the
-// same on every machine.
+// Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key.
 #pragma once
 
 #include "body_store.h"
@@ -64,17 +62,5 @@ using TouchPairs = std::vector<std::pair<std::uint64_t, std::uint64_t>>;
 /// Sorts and de-duplicates pairs; writes the pairs in `now` but not in `before` to outBegin and the reverse to outEnd.
 void touchEvents(TouchPairs& now, const TouchPairs& before, std::vector<TouchEvent>& outBegin,
                  std::vector<TouchEvent>& outEnd);
-
-/// Canonical little-endian serialisation for state hashes.
-class StateWriter {
-public:
-    void u64(std::uint64_t v);
-    void f64(double v);
-    /// XXH3 64-bit hash of everything written.
-    std::uint64_t hash() const;
-
-private:
-    std::vector<unsigned char> mBuf;
-};
 
 }  // namespace unison

@@ -35,39 +35,44 @@ std::uint64_t chainHash(const std::vector<std::uint64_t>& hashes) {
     return hash64(w.data().data(), w.data().size());
 }
 
-std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene) {
-    if (scene.is3d()) {
-        scenes::LoadedScene3 loaded = scenes::loadScene3(scene.scene, scene.name);
-        std::vector<std::uint64_t> hashes{loaded.world->stateHash()};
-        for (int t = 1; t <= scene.steps; ++t) {
-            loaded.world->step();
-            hashes.push_back(loaded.world->stateHash());
-        }
-        return hashes;
-    }
-    scenes::LoadedScene2 loaded = scenes::loadScene2(scene.scene, scene.name);
-    std::vector<std::uint64_t> hashes{loaded.world->stateHash()};
-    for (int t = 1; t <= scene.steps; ++t) {
-        loaded.world->step();
-        hashes.push_back(loaded.world->stateHash());
+namespace {
+
+template <class World>
+std::vector<std::uint64_t> stepHashes(World& world, int steps) {
+    std::vector<std::uint64_t> hashes{world.stateHash()};
+    for (int t = 1; t <= steps; ++t) {
+        world.step();
+        hashes.push_back(world.stateHash());
     }
     return hashes;
 }
 
-int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes) {
-    if (scene.is3d()) return -1;  // snapshots of the 3D world are not implemented (README); nothing to compare
-    scenes::LoadedScene2 loaded = scenes::loadScene2(scene.scene, scene.name);
-    const int k = scene.steps / 3;
-    for (int t = 1; t <= k; ++t) loaded.world->step();
-    const std::vector<std::uint8_t> snap = loaded.world->snapshot();
-    loaded.world.reset();
-    World2 fresh;
+/// Steps `world` (just loaded) to steps/3, snapshots it, drops it, restores into a fresh World and continues.
+template <class World>
+int restoreMismatch(std::unique_ptr<World> world, int steps, const std::vector<std::uint64_t>& hashes) {
+    const int k = steps / 3;
+    for (int t = 1; t <= k; ++t) world->step();
+    const std::vector<std::uint8_t> snap = world->snapshot();
+    world.reset();
+    World fresh;
     if (!fresh.restore(snap.data(), snap.size())) return k;
-    for (int t = k; t <= scene.steps; ++t) {
+    for (int t = k; t <= steps; ++t) {
         if (t > k) fresh.step();
         if (std::size_t(t) >= hashes.size() || fresh.stateHash() != hashes[std::size_t(t)]) return t;
     }
     return -1;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene) {
+    if (scene.is3d()) return stepHashes(*scenes::loadScene3(scene.scene, scene.name).world, scene.steps);
+    return stepHashes(*scenes::loadScene2(scene.scene, scene.name).world, scene.steps);
+}
+
+int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes) {
+    if (scene.is3d()) return restoreMismatch(scenes::loadScene3(scene.scene, scene.name).world, scene.steps, hashes);
+    return restoreMismatch(scenes::loadScene2(scene.scene, scene.name).world, scene.steps, hashes);
 }
 
 }  // namespace unison::replay

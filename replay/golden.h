@@ -16,7 +16,7 @@ struct GoldenScene {
     std::string name;     ///< "pyramid", "restitution_row", "mixed_pile", "cradle"
     nlohmann::json scene; ///< scene JSON (from scenes/)
     int steps = 0;        ///< ticks stepped
-    /// "dimension": 3 (World3; no snapshot/restore check, 3D snapshots are not implemented).
+    /// "dimension": 3 (World3).
     bool is3d() const;
 };
 
@@ -32,8 +32,7 @@ std::uint64_t chainHash(const std::vector<std::uint64_t>& hashes);
 std::vector<std::uint64_t> goldenHashes(const GoldenScene& scene);
 
 /// Snapshots a golden scene at tick steps/3, restores it into a fresh world, steps that one to the end and returns
-/// the first tick whose hash differs from `hashes` (goldenHashes' result), or -1 when every tick matches (and for
-/// 3D scenes, which have no snapshots).
+/// the first tick whose hash differs from `hashes` (goldenHashes' result), or -1 when every tick matches (2D and 3D).
 int firstRestoreMismatch(const GoldenScene& scene, const std::vector<std::uint64_t>& hashes);
 
 }  // namespace unison::replay

@@ -22,21 +22,41 @@ std::string hexHash(std::uint64_t h) {
     return buf;
 }
 
-Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery) {
-    if (steps < 0) throw ReplayError("record: steps must be >= 0");
-    if (snapshotEvery < 1) throw ReplayError("record: the snapshot interval must be >= 1");
-    Recording rec;
-    rec.scene = scene;
-    rec.inputs = inputs;
-    rec.steps = steps;
-    rec.snapshotEvery = snapshotEvery;
-    Session2 session(scene, "scene");
+namespace {
+
+template <class World>
+void recordWith(Recording& rec) {
+    Session<World> session(rec.scene, "scene");
     rec.hashes.push_back(session.world().stateHash());
     rec.snapshots.push_back({0, session.world().snapshot()});
-    for (int t = 1; t <= steps; ++t) {
-        session.tick(t, inputs);
+    for (int t = 1; t <= rec.steps; ++t) {
+        session.tick(t, rec.inputs);
         rec.hashes.push_back(session.world().stateHash());
-        if (snapshotTick(t, steps, snapshotEvery)) rec.snapshots.push_back({t, session.world().snapshot()});
+        if (snapshotTick(t, rec.steps, rec.snapshotEvery)) rec.snapshots.push_back({t, session.world().snapshot()});
+    }
+}
+
+}  // namespace
+
+Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery,
+                 const std::string& baseDir) {
+    if (steps < 0) throw ReplayError("record: steps must be >= 0");
+    if (snapshotEvery < 1) throw ReplayError("record: the snapshot interval must be >= 1");
+    const int dimension = sceneDimension(scene);
+    if (!inputs.actions.empty() && inputs.dimension != dimension)
+        throw ReplayError("record: the inputs were read for a " + std::to_string(inputs.dimension) + "D scene, the scene is " +
+                          std::to_string(dimension) + "D");
+    Recording rec;
+    // A 3D scene's mesh files are read now and stored in the recording, so verify needs no files.
+    rec.scene = dimension == 3 ? scenes::inlineMeshFiles3(scene, "scene", baseDir) : scene;
+    rec.inputs = inputs;
+    rec.inputs.dimension = dimension;
+    rec.steps = steps;
+    rec.snapshotEvery = snapshotEvery;
+    if (dimension == 3) {
+        recordWith<World3>(rec);
+    } else {
+        recordWith<World2>(rec);
     }
     return rec;
 }
@@ -99,13 +119,17 @@ Recording parseRecording(const std::vector<std::uint8_t>& bytes, const std::stri
         r.fail("inconsistent steps, snapshot interval or hash count");
     if (!r.ok()) throw fail(r.error());
     rec.scene = jsonio::parseJson(sceneText, what + " (scene)");
-    rec.inputs = parseInputs(jsonio::parseJson(inputsText, what + " (inputs)"), what + " (inputs)");
+    rec.inputs = parseInputs(jsonio::parseJson(inputsText, what + " (inputs)"), what + " (inputs)",
+                             sceneDimension(rec.scene));
     return rec;
 }
 
-VerifyReport verify(const Recording& rec) {
+namespace {
+
+template <class World>
+VerifyReport verifyWith(const Recording& rec) {
     VerifyReport report;
-    Session2 session(rec.scene, "recording scene");
+    Session<World> session(rec.scene, "recording scene");
     std::size_t nextSnapshot = 0;
     for (int t = 0; t <= rec.steps; ++t) {
         if (t > 0) session.tick(t, rec.inputs);
@@ -121,7 +145,7 @@ VerifyReport verify(const Recording& rec) {
         const bool haveSnapshot = nextSnapshot < rec.snapshots.size() && rec.snapshots[nextSnapshot].tick == t;
         if (!report.match && haveSnapshot) {
             // Locate the desync: the recorded state at this tick against the replayed one, field by field.
-            World2 recorded;
+            World recorded;
             restoreOrThrow(recorded, rec.snapshots[nextSnapshot].bytes, "recorded snapshot at tick " + std::to_string(t));
             report.comparedTick = t;
             report.differences = diffFields(recorded.stateFields(), session.world().stateFields());
@@ -130,6 +154,15 @@ VerifyReport verify(const Recording& rec) {
         }
     }
     return report;
+}
+
+}  // namespace
+
+VerifyReport verify(const Recording& rec) {
+    if (!rec.inputs.actions.empty() && rec.inputs.dimension != sceneDimension(rec.scene))
+        throw ReplayError("verify: the inputs were read for a " + std::to_string(rec.inputs.dimension) +
+                          "D scene, the recording's scene is " + std::to_string(sceneDimension(rec.scene)) + "D");
+    return sceneDimension(rec.scene) == 3 ? verifyWith<World3>(rec) : verifyWith<World2>(rec);
 }
 
 nlohmann::json reportToJson(const VerifyReport& report, std::size_t limit) {

@@ -1,8 +1,8 @@
 // replay/recording.h — recorded matches (.urec): record, save, load, verify, and the desync report.
 //
 // Owns: Recording (the scene, the inputs, the state hash after every tick, full snapshots every K ticks and at the
-// last tick), its binary file format, and verification, which replays the recording through the same Session2 as
-// record() and compares every tick's hash.
+// last tick), its binary file format, and verification, which replays the recording through the same Session2 or
+// Session3 as record() and compares every tick's hash.
 // The file (little-endian, like core/state_io.h): magic "UNISREC\0", u32 format version, u64 result-affecting
 // build flags, the scene JSON text and the inputs JSON text (u64 length + bytes each), u32 steps, u32 snapshot
 // interval, u64 hash count + the hashes (ticks 0..steps), u64 snapshot count + (u32 tick, u64 length, bytes) each,
@@ -22,7 +22,7 @@ namespace unison::replay {
 
 struct RecordedSnapshot {
     int tick = 0;
-    std::vector<std::uint8_t> bytes;  ///< World2::snapshot() after that tick
+    std::vector<std::uint8_t> bytes;  ///< World2::snapshot() or World3::snapshot() after that tick
 };
 
 struct Recording {
@@ -34,9 +34,11 @@ struct Recording {
     std::vector<RecordedSnapshot> snapshots;  ///< ascending ticks
 };
 
-/// Runs a scene with inputs for `steps` ticks, hashing every tick and snapshotting every `snapshotEvery` ticks
-/// (>= 1). Throws ReplayError on a bad scene or an input that cannot be applied.
-Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery);
+/// Runs a scene (2D or 3D by its "dimension") with inputs for `steps` ticks, hashing every tick and snapshotting
+/// every `snapshotEvery` ticks (>= 1). A 3D scene's mesh `obj` files (relative to `baseDir`) are inlined into the
+/// stored scene. Throws ReplayError on a bad scene, inputs of the other dimension or an input that cannot be applied.
+Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery,
+                 const std::string& baseDir = "");
 
 std::vector<std::uint8_t> serializeRecording(const Recording& rec);
 /// Parses a recording file's bytes; truncated, corrupt or foreign data throws ReplayError naming `what`.

@@ -47,17 +47,44 @@ std::vector<std::uint8_t> readBinaryFile(const std::string& path) {
     return bytes;
 }
 
-void restoreOrThrow(World2& world, const std::vector<std::uint8_t>& bytes, const std::string& what) {
+namespace {
+
+template <class World>
+void restoreInto(World& world, const std::vector<std::uint8_t>& bytes, const std::string& what) {
     std::string error;
     if (!world.restore(bytes.data(), bytes.size(), &error)) throw ReplayError(what + ": " + error);
 }
 
+template <class World>
+std::vector<FieldDifference> diffAs(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
+                                    const std::string& whatA, const std::string& whatB) {
+    World wa, wb;
+    restoreInto(wa, a, whatA);
+    restoreInto(wb, b, whatB);
+    return diffFields(wa.stateFields(), wb.stateFields());
+}
+
+/// The container's world kind (bytes [12, 16)); 0 when too short (restore then says why).
+std::uint32_t kindOf(const std::vector<std::uint8_t>& bytes) {
+    if (bytes.size() < 16) return 0;
+    ByteReader r(bytes.data() + 12, 4);
+    return r.u32();
+}
+
+}  // namespace
+
+void restoreOrThrow(World2& world, const std::vector<std::uint8_t>& bytes, const std::string& what) {
+    restoreInto(world, bytes, what);
+}
+
+void restoreOrThrow(World3& world, const std::vector<std::uint8_t>& bytes, const std::string& what) {
+    restoreInto(world, bytes, what);
+}
+
 std::vector<FieldDifference> diffSnapshots(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
                                            const std::string& whatA, const std::string& whatB) {
-    World2 wa, wb;
-    restoreOrThrow(wa, a, whatA);
-    restoreOrThrow(wb, b, whatB);
-    return diffFields(wa.stateFields(), wb.stateFields());
+    if (kindOf(a) == std::uint32_t(SnapshotKind::world3)) return diffAs<World3>(a, b, whatA, whatB);
+    return diffAs<World2>(a, b, whatA, whatB);
 }
 
 nlohmann::json differencesToJson(const std::vector<FieldDifference>& diffs, const char* nameA, const char* nameB,

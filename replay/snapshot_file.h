@@ -2,7 +2,8 @@
 //
 // Owns: atomic file writing (a temporary file in the same folder, flushed to disk, then renamed over the target, so
 // a reader sees the old file or the new one, never half of one), reading whole binary files, and the field-level
-// diff of two 2D snapshots. The bytes of a .usnap file are exactly World2::snapshot() (core/state_io.h container).
+// diff of two snapshots. The bytes of a .usnap file are exactly World2::snapshot() or World3::snapshot()
+// (core/state_io.h container; its world kind says which).
 #pragma once
 
 #include "inputs.h"
@@ -21,8 +22,10 @@ std::vector<std::uint8_t> readBinaryFile(const std::string& path);
 
 /// Restores a snapshot into `world`; a rejected snapshot throws ReplayError naming `what` and leaves world untouched.
 void restoreOrThrow(World2& world, const std::vector<std::uint8_t>& bytes, const std::string& what);
+void restoreOrThrow(World3& world, const std::vector<std::uint8_t>& bytes, const std::string& what);
 
-/// The fields that differ between two 2D snapshots (each restored into a fresh world). Throws ReplayError.
+/// The fields that differ between two snapshots of the same dimension (each restored into a fresh world, 2D or 3D
+/// by the container's world kind). Throws ReplayError (also for a 2D and a 3D snapshot).
 std::vector<FieldDifference> diffSnapshots(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b,
                                            const std::string& whatA, const std::string& whatB);
 

@@ -284,6 +284,7 @@ std::string makeMesh(const std::vector<Vec3>& vertices, const std::vector<std::a
     const MassData3 md = integrateSolid(vertices, triangles);
     if (!(md.mass > 0.0)) return "mesh: volume must be > 0 (triangles counter-clockwise seen from outside)";
     auto mesh = std::make_shared<TriangleMesh>();
+    mesh->leafSize = std::max(1, leafSize);
     mesh->vertices = vertices;
     mesh->triangles = triangles;
     mesh->vertexNormals.assign(std::size_t(nv), Vec3::Zero());

@@ -104,6 +104,7 @@ struct TriangleMesh {
     SphereTree vertexTree;                      ///< leaves hold <= leafSize vertices
     SphereTree triangleTree;                    ///< leaves hold <= leafSize triangles
     double meanEdge = 0.0;                      ///< mean edge length (m): the surface's sampling spacing
+    int leafSize = 8;                           ///< makeMesh's leafSize (snapshots rebuild the trees with it)
 };
 
 enum class ShapeType3 : std::uint8_t { sphere, box, hull, plane, mesh };

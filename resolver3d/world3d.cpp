@@ -121,6 +121,20 @@ bool World3::setVelocity(BodyId id, const Vec3& v, const Vec3& w) {
     return true;
 }
 
+bool World3::applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint) {
+    const int d = mBodies.denseIndex(id);
+    if (d < 0 || !D3::finite(impulse) || !D3::finite(worldPoint)) return false;
+    BodyInfo3& info = mBodies.cold(d);
+    if (info.type != BodyType3::dynamicBody) return false;
+    BodyState3& s = mBodies.hot(d);
+    const Mat3 invI = rotateTensor(toMatrix(s.rotation), info.invInertia);  // world-frame I^-1 = R I_b^-1 R^T
+    s.velocity = D3::add(s.velocity, D3::scale(info.invMass, impulse));
+    s.angularVelocity = D3::add(s.angularVelocity, mul(invI, D3::cross(D3::sub(worldPoint, s.center), impulse)));
+    info.awake = true;
+    info.sleepTime = 0.0;
+    return true;
+}
+
 std::vector<BodyId> World3::bodyIds() const {
     std::vector<BodyId> ids;
     for (int d = 0; d < mBodies.size(); ++d) ids.push_back(mBodies.idAt(d));
@@ -366,44 +380,6 @@ void World3::step() {
     touchEvents(touching, mTouching, mBegin, mEnd);
     mTouching.swap(touching);
     ++mStepCount;
-}
-
-std::uint64_t World3::stateHash() const {
-    StateWriter w;
-    auto vec = [&](const Vec3& v) {
-        for (int i = 0; i < 3; ++i) w.f64(v[i]);
-    };
-    w.u64(mStepCount);
-    w.u64(std::uint64_t(mBodies.size()));
-    for (int d = 0; d < mBodies.size(); ++d) {
-        const BodyId id = mBodies.idAt(d);
-        const BodyState3& s = mBodies.hotArray()[std::size_t(d)];
-        const BodyInfo3& info = mBodies.coldArray()[std::size_t(d)];
-        for (std::uint64_t v : {std::uint64_t(id.index1), std::uint64_t(id.generation), std::uint64_t(info.type),
-                                std::uint64_t(info.awake ? 1u : 0u)})
-            w.u64(v);
-        vec(s.position);
-        for (double v : {s.rotation.w, s.rotation.x, s.rotation.y, s.rotation.z}) w.f64(v);
-        vec(s.center);
-        vec(s.velocity);
-        vec(s.angularVelocity);
-        w.f64(info.sleepTime);
-    }
-    for (const auto& slot : mBodies.slots()) {
-        w.u64(slot.generation);
-        w.u64(std::uint64_t(std::int64_t(slot.dense)));
-    }
-    for (std::uint32_t f : mBodies.freeList()) w.u64(f);
-    w.u64(mCache.entries().size());
-    for (const ContactKey& e : mCache.entries())
-        for (std::uint64_t v : {std::uint64_t(e.slotA), std::uint64_t(e.slotB), std::uint64_t(e.shapeA),
-                                std::uint64_t(e.shapeB), std::uint64_t(e.feature), std::uint64_t(e.basicMask)})
-            w.u64(v);
-    for (const auto& p : mTouching) {
-        w.u64(p.first);
-        w.u64(p.second);
-    }
-    return w.hash();
 }
 
 }  // namespace unison

@@ -15,6 +15,7 @@
 #include "collide3d.h"
 #include "lcp.h"
 #include "shapes3d.h"
+#include "state_io.h"
 #include "step_support.h"
 
 #include <cstdint>
@@ -134,8 +135,24 @@ public:
     const StepStats3& stats() const { return mStats; }
     std::uint64_t stepCount() const { return mStepCount; }
 
-    /// 64-bit hash (XXH3) of a canonical, field-by-field serialisation of the simulation state.
+    /// Applies an impulse (N s) at a world point: changes the linear and angular velocity and wakes the body.
+    /// False for invalid ids, non-dynamic bodies or non-finite values.
+    bool applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint);
+
+    /// 64-bit hash (XXH3) of the canonical serialisation of everything that affects the future: settings,
+    /// step count, body store (slots, generations, free list, dense order, transforms, velocities, mass
+    /// properties, shapes incl. mesh geometry, sleep state), warm-start cache and touching pairs. It is the hash
+    /// of snapshot()'s payload (resolver3d/world3d_state.cpp).
     std::uint64_t stateHash() const;
+    /// The whole state in the versioned snapshot container of core/state_io.h (world kind 3).
+    std::vector<std::uint8_t> snapshot() const;
+    /// Replaces this world's state with a snapshot. The data is parsed and checked into a fresh world first
+    /// (meshes get their sphere trees rebuilt); on any problem (corrupt, truncated, a 2D snapshot, other build
+    /// flags, invalid values) returns false with a reason in *error and this world is untouched. The last step's
+    /// outputs (contacts, events, statistics) are not state: they are empty after a restore until the next step.
+    bool restore(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
+    /// Every state field with its name and body (for snapshot diffs and desync reports).
+    std::vector<StateField> stateFields() const;
 
 private:
     struct Contact;
@@ -144,6 +161,9 @@ private:
                      std::vector<ContactKey>& newCache);
     ContactKey keyOf(const Contact& c) const;
     void integrate(int dense, double dt);
+    /// The one canonical walk over the state (resolver3d/world3d_state.cpp); Self is World3 or const World3.
+    template <class Io, class Self>
+    static void transferState(Io& io, Self& world);
 
     WorldDef3 mDef;
     BodyStore<BodyState3, BodyInfo3> mBodies;

@@ -43,8 +43,8 @@ CommandOutput runLcp(const Lcp& lcp, int maxPivots);
 /// `unison resolve`: the paper's resolver on one JSON problem (DESIGN.md); exit 0 only if solved.
 CommandOutput runResolve(const nlohmann::json& input, const std::string& what);
 
-/// Optional snapshot of `unison run`: after step `at` (0: the loaded scene; -1: none) write World2::snapshot() to
-/// `path` (atomically).
+/// Optional snapshot of `unison run`: after step `at` (0: the loaded scene; -1: none) write World2::snapshot() or
+/// World3::snapshot() to `path` (atomically).
 struct RunSnapshot {
     int at = -1;
     std::string path;
@@ -72,7 +72,8 @@ int diffCommand(const std::string& fileA, const std::string& fileB, std::ostream
 
 /// `unison run` for a scene with "dimension": 3 (runScene dispatches to it); relative `obj` paths are resolved
 /// against the folder of `what` (the scene file).
-int runScene3(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out);
+int runScene3(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
+              const RunSnapshot& snapshot = {});
 
 /// A state hash as the 16 lower-case hex digits the run output prints.
 std::string hashHex(std::uint64_t hash);

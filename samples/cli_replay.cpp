@@ -11,16 +11,19 @@ namespace unison::cli {
 namespace {
 constexpr std::size_t kReportedDifferences = 50;  // a report lists at most this many fields (the count is exact)
 
-replay::InputScript readInputs(const std::string& file) {
-    if (file.empty()) return {};
-    return replay::parseInputs(parseJson(readFile(file), file), file);
+replay::InputScript readInputs(const std::string& file, const nlohmann::json& scene) {
+    const int dimension = replay::sceneDimension(scene);
+    if (file.empty()) return replay::InputScript{dimension, {}};
+    return replay::parseInputs(parseJson(readFile(file), file), file, dimension);
 }
 }  // namespace
 
 int recordCommand(const std::string& sceneFile, const std::string& inputsFile, int steps, int snapshotEvery,
                   const std::string& outFile, std::ostream& out) {
     const nlohmann::json scene = parseJson(readFile(sceneFile), sceneFile);
-    const replay::Recording rec = replay::record(scene, readInputs(inputsFile), steps, snapshotEvery);
+    const std::size_t slash = sceneFile.find_last_of('/');
+    const std::string baseDir = slash == std::string::npos ? "." : sceneFile.substr(0, slash);
+    const replay::Recording rec = replay::record(scene, readInputs(inputsFile, scene), steps, snapshotEvery, baseDir);
     const std::vector<std::uint8_t> bytes = replay::serializeRecording(rec);
     replay::writeFileAtomic(outFile, bytes);
     out << nlohmann::json{{"steps", rec.steps},
@@ -35,7 +38,7 @@ int recordCommand(const std::string& sceneFile, const std::string& inputsFile, i
 
 int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err) {
     replay::Recording rec = replay::parseRecording(replay::readBinaryFile(recordingFile), recordingFile);
-    if (!inputsFile.empty()) rec.inputs = readInputs(inputsFile);
+    if (!inputsFile.empty()) rec.inputs = readInputs(inputsFile, rec.scene);
     const replay::VerifyReport report = replay::verify(rec);
     out << replay::reportToJson(report, kReportedDifferences).dump() << "\n";
     if (report.match) return 0;

@@ -19,11 +19,8 @@ std::string hashHex(std::uint64_t hash) {
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
              const RunSnapshot& snapshot) {
     const nlohmann::json* dim = scene.is_object() && scene.contains("dimension") ? &scene["dimension"] : nullptr;
-    if (dim && dim->is_number_integer() && dim->get<int>() == 3) {
-        if (snapshot.at >= 0) throw InputError("--snapshot-at: snapshots are implemented for 2D scenes only");
-        return runScene3(scene, what, steps, hashEvery, out);
-    }
     if (snapshot.at > steps) throw InputError("--snapshot-at " + std::to_string(snapshot.at) + " is after the last step");
+    if (dim && dim->is_number_integer() && dim->get<int>() == 3) return runScene3(scene, what, steps, hashEvery, out, snapshot);
     scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
     if (snapshot.at == 0) replay::writeFileAtomic(snapshot.path, world.snapshot());

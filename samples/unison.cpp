@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
 
     std::string inputsFile, recordOut;
     int recordSteps = 60, snapshotEvery = 30;
-    auto* record = app.add_subcommand("record", "record a 2D scene with per-tick inputs: hashes and snapshots");
+    auto* record = app.add_subcommand("record", "record a 2D or 3D scene with per-tick inputs: hashes and snapshots");
     record->add_option("SCENE", sceneFile, "scene JSON file")->required();
     record->add_option("--inputs", inputsFile, "inputs JSON file (README \"Inputs JSON\"); none if omitted");
     record->add_option("--steps", recordSteps, "number of ticks (default 60)")->check(CLI::NonNegativeNumber);

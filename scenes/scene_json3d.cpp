@@ -88,6 +88,53 @@ Shape3 readShape3(const json& js, const std::string& path, const std::string& ba
     return s;
 }
 
+BodySpec3 readBody3(const json& jb, const std::string& path, const std::string& baseDir) {
+    BodySpec3 spec;
+    BodyDef3& bd = spec.def;
+    bd.type = static_cast<BodyType3>(jsonio::bodyKind(jb, path));
+    bd.position = vec3Or(jb, path, "position", Vec3::Zero());
+    if (const json* q = member(jb, path, "orientation", false)) {
+        const std::vector<double> n = jsonio::numbers(*q, path + ".orientation", 4);
+        bd.orientation = Quat{n[0], n[1], n[2], n[3]};
+    }
+    bd.linearVelocity = vec3Or(jb, path, "linear_velocity", Vec3::Zero());
+    bd.angularVelocity = vec3Or(jb, path, "angular_velocity", Vec3::Zero());
+    if (const json* js = member(jb, path, "shapes", false)) {
+        const json& arr = jsonio::array(*js, path + ".shapes");
+        for (std::size_t k = 0; k < arr.size(); ++k)
+            spec.shapes.push_back(readShape3(arr[k], path + ".shapes[" + std::to_string(k) + "]", baseDir));
+    }
+    return spec;
+}
+
+json inlineMeshFiles3(const json& scene, const std::string& what, const std::string& baseDir) {
+    json out = scene;
+    if (!out.is_object() || !out.contains("bodies") || !out["bodies"].is_array()) return out;
+    json& bodies = out["bodies"];
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        json& jb = bodies[i];
+        if (!jb.is_object() || !jb.contains("shapes") || !jb["shapes"].is_array()) continue;
+        for (std::size_t k = 0; k < jb["shapes"].size(); ++k) {
+            json& js = jb["shapes"][k];
+            if (!js.is_object() || !js.contains("obj") || !js["obj"].is_string()) continue;
+            const std::string path = what + ".bodies[" + std::to_string(i) + "].shapes[" + std::to_string(k) + "]";
+            const double scale = numberOr(js, path, "scale", 1.0);
+            if (!(scale > 0.0)) fail(path + ".scale", "must be > 0");
+            std::string file = js["obj"].get<std::string>();
+            if (!baseDir.empty() && !file.empty() && file[0] != '/') file = baseDir + "/" + file;
+            const ObjMesh m = readObj(file, scale);
+            json vertices = json::array(), triangles = json::array();
+            for (const Vec3& v : m.vertices) vertices.push_back({v.x(), v.y(), v.z()});
+            for (const auto& t : m.triangles) triangles.push_back({t[0], t[1], t[2]});
+            js.erase("obj");
+            js["scale"] = 1.0;  // the vertices are already scaled (1.0 * v is exact)
+            js["vertices"] = std::move(vertices);
+            js["triangles"] = std::move(triangles);
+        }
+    }
+    return out;
+}
+
 LoadedScene3 loadScene3(const json& scene, const std::string& what, const std::string& baseDir, const WorldDef3& base) {
     const json* dim = member(scene, what, "dimension", true);
     if (!dim->is_number_integer() || dim->get<int>() != 3) fail(what + ".dimension", "expected 3");
@@ -105,24 +152,9 @@ LoadedScene3 loadScene3(const json& scene, const std::string& what, const std::s
     const json& bodies = jsonio::array(*member(scene, what, "bodies", true), what + ".bodies");
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const std::string path = what + ".bodies[" + std::to_string(i) + "]";
-        const json& jb = bodies[i];
-        BodyDef3 bd;
-        bd.type = static_cast<BodyType3>(jsonio::bodyKind(jb, path));
-        bd.position = vec3Or(jb, path, "position", Vec3::Zero());
-        if (const json* q = member(jb, path, "orientation", false)) {
-            const std::vector<double> n = jsonio::numbers(*q, path + ".orientation", 4);
-            bd.orientation = Quat{n[0], n[1], n[2], n[3]};
-        }
-        bd.linearVelocity = vec3Or(jb, path, "linear_velocity", Vec3::Zero());
-        bd.angularVelocity = vec3Or(jb, path, "angular_velocity", Vec3::Zero());
-        std::vector<Shape3> shapes;
-        if (const json* js = member(jb, path, "shapes", false)) {
-            const json& arr = jsonio::array(*js, path + ".shapes");
-            for (std::size_t k = 0; k < arr.size(); ++k)
-                shapes.push_back(readShape3(arr[k], path + ".shapes[" + std::to_string(k) + "]", baseDir));
-        }
+        const BodySpec3 spec = readBody3(bodies[i], path, baseDir);
         std::string error;
-        const BodyId id = out.world->createBody(bd, shapes, &error);
+        const BodyId id = out.world->createBody(spec.def, spec.shapes, &error);
         if (id.isNull()) fail(path, error);
         out.bodies.push_back(id);
     }

@@ -30,6 +30,21 @@ struct LoadedScene3 {
 LoadedScene3 loadScene3(const nlohmann::json& scene, const std::string& what, const std::string& baseDir = "",
                         const WorldDef3& base = {});
 
+/// A body read from JSON, not yet created.
+struct BodySpec3 {
+    BodyDef3 def;
+    std::vector<Shape3> shapes;
+};
+
+/// Reads one scene body object ({"type", "position", "orientation", "linear_velocity", "angular_velocity",
+/// "shapes"}); `path` names it in messages. Throws jsonio::JsonError. (Also used by replay/ inputs that create bodies.)
+BodySpec3 readBody3(const nlohmann::json& body, const std::string& path, const std::string& baseDir = "");
+
+/// The scene with every mesh shape that names an `obj` file replaced by its vertices and triangles (already
+/// scaled), so that the scene no longer depends on files or the working directory (recordings store it).
+/// Throws jsonio::JsonError on a missing or bad file.
+nlohmann::json inlineMeshFiles3(const nlohmann::json& scene, const std::string& what, const std::string& baseDir);
+
 /// Reads one 3D shape object (exposed for tools that build bodies themselves).
 Shape3 readShape3(const nlohmann::json& js, const std::string& path, const std::string& baseDir);
 

@@ -291,6 +291,57 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
     for (const std::string& f : {inputs, changed, rec, a, b, junk}) std::remove(f.c_str());
 }
 
+TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh inlined into the recording)") {
+    const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/mixed3d.json";
+    const std::string inputs = writeTemp("inputs3.json", R"({"inputs": [
+        {"tick": 4, "type": "apply_impulse", "body": 3, "impulse": [0.2, 0.5, -0.1], "point": [0.8, 1.6, 0]},
+        {"tick": 7, "type": "set_gravity", "gravity": [0, -9, 0.5]}]})");
+    const std::string changed = writeTemp("inputs3b.json", R"({"inputs": [
+        {"tick": 4, "type": "apply_impulse", "body": 3, "impulse": [0.2, 0.5, -0.1], "point": [0.8, 1.6, 0]},
+        {"tick": 7, "type": "set_gravity", "gravity": [0, -9, 0.6]}]})");
+    const std::string flat = writeTemp("inputs3flat.json", R"({"inputs": [{"tick": 1, "type": "set_gravity", "gravity": [0, -9]}]})");
+    const std::string rec = tempPath("m3.urec"), a = tempPath("a3.usnap"), b = tempPath("b3.usnap");
+    const Run r = unison("record " + scene + " --inputs " + inputs + " --steps 12 --snapshot-every 4 -o " + rec);
+    REQUIRE_MESSAGE(r.exitCode == 0, r.err);
+    CHECK(nlohmann::json::parse(r.out)["snapshots"] == 4);
+    const Run v = unison("verify " + rec);
+    CHECK(v.exitCode == 0);
+    CHECK(nlohmann::json::parse(v.out)["status"] == "match");
+    const Run d = unison("verify " + rec + " --inputs " + changed);
+    CHECK(d.exitCode == 1);
+    const auto report = nlohmann::json::parse(d.out);
+    CHECK(report["first_desync_tick"] == 7);
+    CHECK(report["compared_snapshot_tick"] == 8);
+    CHECK(report["differences"].size() > 0);
+    CHECK(d.err.find("desync at tick 7") != std::string::npos);
+    // `run --snapshot-at` and `record` hash the same 3D state; diff names the step count first.
+    const Run s5 = unison("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
+    REQUIRE(s5.exitCode == 0);
+    const Run r5 = unison("record " + scene + " --steps 5 -o " + rec);
+    REQUIRE(r5.exitCode == 0);
+    CHECK(nlohmann::json::parse(r5.out)["final_hash"] == nlohmann::json::parse(s5.out)["hash"]);
+    REQUIRE(unison("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
+    CHECK(unison("diff " + a + " " + a).exitCode == 0);
+    const Run df = unison("diff " + a + " " + b);
+    CHECK(df.exitCode == 1);
+    CHECK(nlohmann::json::parse(df.out)["differences"][0]["field"] == "stepCount");
+    // 2D inputs for a 3D scene, and a 2D snapshot against a 3D one: exit 2.
+    const std::string flatSnap = tempPath("flat.usnap");
+    REQUIRE(unison("run " + std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json --steps 1 --snapshot-at 1 -o " + flatSnap).exitCode == 0);
+    const std::pair<std::string, const char*> bad[] = {
+        {"record " + scene + " --inputs " + flat + " -o " + b, "gravity"},
+        {"diff " + a + " " + flatSnap, "kind"},
+    };
+    for (const auto& item : bad) {
+        const std::string& args = item.first;
+        CAPTURE(args);
+        const Run e = unison(args);
+        CHECK(e.exitCode == 2);
+        CHECK(e.err.find(item.second) != std::string::npos);
+    }
+    for (const std::string& f : {inputs, changed, flat, rec, a, b, flatSnap}) std::remove(f.c_str());
+}
+
 TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; bad 3D scenes exit 2") {
     const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/mixed3d.json";
     const Run r = unison("run " + scene + " --steps 120 --hash-every 60");

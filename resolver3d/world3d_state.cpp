@@ -1,0 +1,274 @@
+// resolver3d/world3d_state.cpp — the 3D world's state: its canonical serialisation, the state hash, snapshots,
+// restore and the named field list used by diffs and desync reports (the 3D twin of resolver2d/world2d_state.cpp,
+// on the same sinks and source: core/state_transfer.h).
+//
+// What is state: the settings (WorldDef3 incl. gravity, friction directions and LCP options), the step count, the
+// body store (slot table with generations, LIFO free list, dense order, hot records with quaternions, cold records
+// with mass properties, shapes and sleep timers), the warm-start cache and the touching pairs. Shapes carry their
+// geometry: a box's or hull's polyhedron (vertices, faces, edges) and a mesh's vertices, triangles and leaf size.
+// A mesh's normals and sphere trees are derived data: restore rebuilds them with makeMesh(), which is
+// deterministic, so the restored mesh is bit-identical. Shapes that share one polyhedron or mesh (bodies loaded
+// from the same file) share it in the snapshot too: the first use writes it, later ones refer to it by index.
+// What is not state: LemkeSolver's workspace (re-initialised by every solve), the island-local index map (all -1
+// between steps), the captureCandidates() switch, and the last step's outputs (contacts, events, statistics).
+#include "world3d.h"
+
+#include "state_transfer.h"
+
+#include <cmath>
+
+namespace unison {
+
+// If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
+// (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
+static_assert(sizeof(WorldDef3) == 160, "WorldDef3 changed: serialise the new field in transferState()");
+static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
+static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
+static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field in transferState()");
+static_assert(sizeof(ContactKey) == 20, "ContactKey changed: serialise the new field in transferState()");
+static_assert(sizeof(ConvexPolyhedron) == 96, "ConvexPolyhedron changed: serialise the new field in transferState()");
+static_assert(sizeof(TriangleMesh) == 208, "TriangleMesh changed: serialise the new field in transferState()");
+
+namespace {
+
+using namespace state_transfer;
+
+template <class Io, class V>
+void vec3(Io& io, const char* name, V& v) {
+    io.push(name);
+    io.f64("x", v.x());
+    io.f64("y", v.y());
+    io.f64("z", v.z());
+    io.pop();
+}
+
+template <class Io, class M>
+void mat3(Io& io, const char* name, M& m) {
+    static const char* const kNames[3][3] = {{"xx", "xy", "xz"}, {"yx", "yy", "yz"}, {"zx", "zy", "zz"}};
+    io.push(name);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) io.f64(kNames[i][j], m(i, j));
+    io.pop();
+}
+
+template <class Io, class Q>
+void quat(Io& io, const char* name, Q& q) {
+    io.push(name);
+    io.f64("w", q.w);
+    io.f64("x", q.x);
+    io.f64("y", q.y);
+    io.f64("z", q.z);
+    io.pop();
+}
+
+/// Polyhedra and meshes already written or read, in first-use order (shapes refer to them by index).
+struct SharedGeometry {
+    std::vector<std::shared_ptr<const ConvexPolyhedron>> polys;
+    std::vector<std::shared_ptr<const TriangleMesh>> meshes;
+};
+
+/// A shared geometry object: its index in `table`; when it is new (index == table size) its content follows,
+/// written by write(object) or read by read() (which returns the built object, or null after io.fail()).
+template <class Io, class Ptr, class Table, class Write, class Read>
+void sharedObject(Io& io, const char* name, Ptr& p, Table& table, Write write, Read read) {
+    io.push(name);
+    std::uint32_t ref = 0;
+    if constexpr (!Io::kReading) {
+        while (ref < table.size() && table[ref] != p) ++ref;
+    }
+    io.u32("ref", ref);
+    if constexpr (Io::kReading) {
+        if (ref < table.size()) {
+            p = table[ref];
+        } else if (ref == table.size()) {
+            p = read();
+            if (p) table.push_back(p);
+        } else {
+            io.fail(std::string(name) + ": reference " + std::to_string(ref) + " to an object not yet defined");
+        }
+    } else {
+        if (ref == table.size()) {
+            table.push_back(p);
+            write(*p);
+        }
+    }
+    io.pop();
+}
+
+template <class Io, class P>
+void polyhedron(Io& io, P& poly) {
+    const auto index = [&](const char* n, auto& i, std::size_t bound) {
+        io.i32(n, i);
+        if constexpr (Io::kReading) {
+            if (i < 0 || std::size_t(i) >= bound) io.fail(std::string("polyhedron: ") + n + " index out of range");
+        }
+    };
+    sequence(io, "vertices", poly.vertices, 24, [&](auto& v) { vec3(io, "p", v); });
+    const std::size_t nv = poly.vertices.size();
+    sequence(io, "faces", poly.faces, 40, [&](auto& f) {
+        vec3(io, "normal", f.normal);
+        io.f64("offset", f.offset);
+        sequence(io, "loop", f.loop, 4, [&](auto& i) { index("vertex", i, nv); });
+        if constexpr (Io::kReading) {
+            if (f.loop.size() < 3) io.fail("polyhedron: a face has fewer than 3 vertices");
+        }
+    });
+    const std::size_t nf = poly.faces.size();
+    sequence(io, "edges", poly.edges, 16, [&](auto& e) {
+        index("v0", e.v0, nv);
+        index("v1", e.v1, nv);
+        index("face0", e.face0, nf);
+        index("face1", e.face1, nf);
+    });
+    vec3(io, "centroid", poly.centroid);
+    if constexpr (Io::kReading) {
+        if (nv < 4 || nf < 4) io.fail("polyhedron: needs at least 4 vertices and 4 faces");
+    }
+}
+
+/// A mesh's defining data; its normals and sphere trees are rebuilt from it on reading.
+template <class Io, class Vs, class Ts, class L>
+void meshData(Io& io, Vs& vertices, Ts& triangles, L& leafSize) {
+    sequence(io, "vertices", vertices, 24, [&](auto& v) { vec3(io, "p", v); });
+    sequence(io, "triangles", triangles, 12, [&](auto& t) {
+        io.i32("a", t[0]);
+        io.i32("b", t[1]);
+        io.i32("c", t[2]);
+    });
+    io.i32("leafSize", leafSize);
+}
+
+template <class Io, class S>
+void shape(Io& io, S& s, SharedGeometry& shared) {
+    enumeration(io, "type", s.type, int(ShapeType3::mesh));
+    vec3(io, "center", s.center);
+    io.f64("radius", s.radius);
+    vec3(io, "halfExtents", s.halfExtents);
+    vec3(io, "normal", s.normal);
+    io.f64("offset", s.offset);
+    io.f64("density", s.density);
+    io.f64("friction", s.friction);
+    io.f64("restitution", s.restitution);
+    if (!io.ok()) return;
+    if (s.type == ShapeType3::box || s.type == ShapeType3::hull) {
+        sharedObject(
+            io, "poly", s.poly, shared.polys, [&](const auto& p) { polyhedron(io, p); },
+            [&]() -> std::shared_ptr<const ConvexPolyhedron> {
+                auto p = std::make_shared<ConvexPolyhedron>();
+                polyhedron(io, *p);
+                return io.ok() ? p : nullptr;
+            });
+    } else if (s.type == ShapeType3::mesh) {
+        sharedObject(
+            io, "mesh", s.mesh, shared.meshes,
+            [&](const auto& m) { meshData(io, m.vertices, m.triangles, m.leafSize); },
+            [&]() -> std::shared_ptr<const TriangleMesh> {
+                std::vector<Vec3> vertices;
+                std::vector<std::array<int, 3>> triangles;
+                int leafSize = 0;
+                meshData(io, vertices, triangles, leafSize);
+                if (!io.ok()) return nullptr;
+                if (leafSize < 1) {
+                    io.fail("mesh: leaf size must be >= 1");
+                    return nullptr;
+                }
+                Shape3 built;
+                const std::string error = makeMesh(vertices, triangles, &built, leafSize);
+                if (!error.empty()) io.fail(error);
+                return error.empty() ? built.mesh : nullptr;
+            });
+    }
+    if constexpr (Io::kReading) {
+        const bool ok = s.type == ShapeType3::sphere  ? s.radius > 0.0
+                        : s.type == ShapeType3::box   ? s.halfExtents.minCoeff() > 0.0 && s.poly != nullptr
+                        : s.type == ShapeType3::hull  ? s.poly != nullptr
+                        : s.type == ShapeType3::plane ? std::fabs(Dim3::dot(s.normal, s.normal) - 1.0) < 1e-9
+                                                      : s.mesh != nullptr;
+        if (io.ok() && !ok) io.fail("shape: invalid dimensions for its type");
+        if (io.ok() && !(s.density >= 0.0 && s.friction >= 0.0 && s.restitution >= 0.0))
+            io.fail("shape: density, friction and restitution must be >= 0");
+    }
+}
+
+/// One body's hot and cold records.
+template <class Io, class Hot, class Cold>
+void body(Io& io, Hot& s, Cold& info, SharedGeometry& shared) {
+    vec3(io, "position", s.position);
+    quat(io, "rotation", s.rotation);
+    vec3(io, "center", s.center);
+    vec3(io, "velocity", s.velocity);
+    vec3(io, "angularVelocity", s.angularVelocity);
+    enumeration(io, "type", info.type, int(BodyType3::dynamicBody));
+    io.f64("mass", info.mass);
+    io.f64("invMass", info.invMass);
+    mat3(io, "inertia", info.inertia);
+    mat3(io, "invInertia", info.invInertia);
+    vec3(io, "localCenter", info.localCenter);
+    io.f64("sleepTime", info.sleepTime);
+    boolean(io, "awake", info.awake);
+    sequence(io, "shapes", info.shapes, 100, [&](auto& sh) { shape(io, sh, shared); });
+    if constexpr (Io::kReading) {
+        if (io.ok() && !(info.mass >= 0.0 && info.invMass >= 0.0)) io.fail("body: mass must be >= 0");
+    }
+}
+
+}  // namespace
+
+template <class Io, class Self>
+void World3::transferState(Io& io, Self& world) {
+    auto& def = world.mDef;
+    io.push("def");
+    vec3(io, "gravity", def.gravity);
+    worldSettings(io, def, [&] {
+        io.i32("frictionDirections", def.frictionDirections);
+        if constexpr (Io::kReading) {
+            // The warm-start masks hold k + 2 bits per contact in 32 (core/step_support.h): k <= 30.
+            if (def.frictionDirections < 1 || def.frictionDirections > 30) io.fail("def.frictionDirections out of range");
+        }
+    });
+    io.pop();
+    io.u64("stepCount", world.mStepCount);
+
+    SharedGeometry shared;
+    bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold, shared); });
+
+    if constexpr (Io::kReading) {
+        std::vector<ContactKey> entries;
+        sequence(io, "cache", entries, 20, [&](auto& e) { cacheEntry(io, e); });
+        requireSorted(io, entries, "warm-start cache entries");
+        if (io.ok()) world.mCache.replace(entries);
+    } else {
+        sequence(io, "cache", world.mCache.entries(), 20, [&](auto& e) { cacheEntry(io, e); });
+    }
+    sequence(io, "touching", world.mTouching, 16, [&](auto& pair) {
+        io.u64("a", pair.first);
+        io.u64("b", pair.second);
+    });
+    requireSorted(io, world.mTouching, "touching pairs");
+}
+
+std::uint64_t World3::stateHash() const {
+    const std::vector<std::uint8_t> bytes = stateBytes([&](ByteSink& sink) { transferState(sink, *this); });
+    return hash64(bytes.data(), bytes.size());
+}
+
+std::vector<std::uint8_t> World3::snapshot() const {
+    return frameSnapshot(SnapshotKind::world3, std::uint64_t(mBodies.size()),
+                         stateBytes([&](ByteSink& sink) { transferState(sink, *this); }));
+}
+
+bool World3::restore(const std::uint8_t* data, std::size_t size, std::string* error) {
+    World3 fresh;
+    if (!readSnapshot(data, size, SnapshotKind::world3, fresh, error,
+                      [](ByteSource& source, World3& w) { transferState(source, w); }))
+        return false;
+    fresh.mCapture = mCapture;  // a viewing switch of this object, not simulation state
+    *this = std::move(fresh);   // only now is the live world replaced
+    return true;
+}
+
+std::vector<StateField> World3::stateFields() const {
+    return namedFields([&](FieldSink& sink) { transferState(sink, *this); });
+}
+
+}  // namespace unison
