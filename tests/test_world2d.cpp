@@ -180,6 +180,17 @@ TEST_CASE("the 20-row testbed pyramid lands with friction in every island and re
     CHECK(failed == 0);
     CHECK(maxScaled <= 1e-6);
     CHECK(scene.world->stats().islands == 1);
+    // Then it rests: the warm start holds for 25 s of simulation. With a 1e-8 tangential dead zone, rounding-level
+    // creep crossed it after about 20 s and every step took thousands of pivots (WorldDef2::tangentDeadZone).
+    long restingPivots = 0;
+    for (int i = 90; i < 1500; ++i) {
+        scene.world->step();
+        failed += scene.world->stats().failedIslands;
+        if (i >= 300) restingPivots += scene.world->stats().pivots;
+    }
+    MESSAGE("pyramid20 resting, steps 300-1500: " << restingPivots << " pivots");
+    CHECK(failed == 0);
+    CHECK(restingPivots <= 100);
 }
 
 TEST_CASE("a destroyed body's warm-start entries are not inherited by the next body in its slot") {
