@@ -40,9 +40,9 @@ const Golden kGolden[] = {
     {"restitution_row", 240, 0x247bf1c32e2eaabeull, 0x28c52fe964f18ce4ull},
     {"mixed_pile", 300, 0x43db22ee9ce9832full, 0x57694fb4ba9d3215ull},
     {"cradle", 120, 0x547618ea65506e6eull, 0xc593de536b613679ull},
-    {"box_heap3d", 180, 0xf83b8d8906141d84ull, 0xaf3683ad55e09176ull},
-    {"spheres3d", 180, 0xc30e26549c8512afull, 0xa6aefc30e47af838ull},
-    {"bunnies3d", 240, 0x6414ee88454937c8ull, 0x1a790692f0aef539ull},
+    {"box_heap3d", 180, 0xa985ec030a2066e6ull, 0xdd1c2646b1f205cfull},
+    {"spheres3d", 180, 0x263e097f7ecffe9eull, 0x2e0c97a71c571120ull},
+    {"bunnies3d", 240, 0xbaf7985a34ca3730ull, 0xcfe948473989e17full},
 };
 // ==================================================================================================================
 
