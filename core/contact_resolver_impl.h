@@ -11,6 +11,7 @@
 
 #include "contact_resolver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -94,8 +95,9 @@ public:
         return total;
     }
 
-    /// Appends row i's nonzero entries (columns ascending) to cols/vals.
-    void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals) const {
+    /// Appends row i's nonzero entries (columns ascending) to cols/vals; raises maxAbs to their largest |value| and
+    /// clears `finite` on a NaN or infinity.
+    void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals, double& maxAbs, bool& finite) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
         const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
         const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
@@ -124,6 +126,9 @@ public:
             if (v != 0.0) {
                 cols.push_back(j);
                 vals.push_back(v);
+                const double m = std::fabs(v);
+                finite = finite && m <= std::numeric_limits<double>::max();
+                maxAbs = m > maxAbs ? m : maxAbs;
             }
         }
     }
@@ -278,11 +283,14 @@ SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
     lcp.cols.reserve(coupling.entryBound());
     lcp.vals.reserve(coupling.entryBound());
+    double maxAbs = 0.0;
+    bool finite = true;
     for (int i = 0; i < lcp.n; ++i) {
-        coupling.appendRow(i, lcp.cols, lcp.vals);
+        coupling.appendRow(i, lcp.cols, lcp.vals, maxAbs, finite);
         lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
     }
     lcp.b = detail::normalRhsAll(bodies, contacts, options);
+    lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
     return lcp;
 }
 
@@ -389,6 +397,8 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     SparseLcp lcp;
     lcp.n = layout.size();
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
+    double maxAbs = 1.0;  // the +-1 entries of E
+    bool finite = true;
     const std::size_t bound = coupling.entryBound() + std::size_t(nc) * std::size_t(2 * k + 1);
     lcp.cols.reserve(bound);
     lcp.vals.reserve(bound);
@@ -403,7 +413,7 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
                 lcp.vals.push_back(-lcp.vals[std::size_t(e)]);
             }
         } else {
-            coupling.appendRow(i, lcp.cols, lcp.vals);
+            coupling.appendRow(i, lcp.cols, lcp.vals, maxAbs, finite);
         }
         if (i >= layout.tangentOffset()) {
             lcp.cols.push_back(layout.slackOffset() + (i - layout.tangentOffset()) / k);
@@ -415,6 +425,7 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
         if (sys.mu[std::size_t(c)] != 0.0) {
             lcp.cols.push_back(c);
             lcp.vals.push_back(sys.mu[std::size_t(c)]);
+            maxAbs = std::max(maxAbs, sys.mu[std::size_t(c)]);  // mu is finite and >= 0 (validate)
         }
         for (int m = 0; m < k; ++m) {
             lcp.cols.push_back(layout.tangentOffset() + c * k + m);
@@ -423,6 +434,7 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
         lcp.rowStart[std::size_t(nr + c) + 1] = int(lcp.cols.size());
     }
     lcp.b = std::move(sys.b);
+    lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
     if (outLayout) *outLayout = layout;
     return lcp;
 }

@@ -40,6 +40,10 @@ struct SparseLcp {
     std::vector<int> cols;      ///< (nnz)
     std::vector<double> vals;   ///< (nnz)
     std::vector<double> b;      ///< (n)
+    /// Set (>= 0) only by an assembler that built the rows itself and vouches for them: columns strictly increasing
+    /// and in range, every value finite, and maxAbs = max |A_ij|. The solver then skips its O(nnz) check of A
+    /// (it still checks sizes and b). Leave it at -1 for matrices built any other way.
+    double maxAbs = -1.0;
 };
 
 /// The nonzeros of a dense LCP in compressed rows.

@@ -6,6 +6,7 @@
 #include "resolver3d.h"
 #include "lcp_families.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -421,7 +422,6 @@ TEST_CASE("two runs give bit-identical impulses and velocities") {
     for (std::size_t k = 0; k < a.size(); ++k) CHECK(std::memcmp(&a[k], &b[k], sizeof(double)) == 0);
 }
 
-}  // TEST_SUITE
 
 namespace {
 
@@ -442,6 +442,18 @@ void checkSparseEqualsDense(const std::vector<ResolverBody<D>>& bodies, const st
         REQUIRE(sparse.vals.size() == dense.vals.size());
         CHECK(std::memcmp(sparse.vals.data(), dense.vals.data(), dense.vals.size() * sizeof(double)) == 0);
         CHECK(std::memcmp(sparse.b.data(), dense.b.data(), dense.b.size() * sizeof(double)) == 0);
+        // The assembler vouches for its rows (SparseLcp::maxAbs), so the solver skips its own check: it must be
+        // exactly the largest |A_ij|, and solving with or without the voucher gives the same bits.
+        double maxAbs = 0.0;
+        for (double v : dense.vals) maxAbs = std::max(maxAbs, std::fabs(v));
+        CHECK(sparse.maxAbs == maxAbs);
+        SparseLcp unvouched = sparse;
+        unvouched.maxAbs = -1.0;
+        LemkeSolver solver;
+        const LcpResult a = solver.solve(sparse), b = solver.solve(unvouched);
+        CHECK(a.status == b.status);
+        CHECK(a.z == b.z);
+        CHECK(a.pivots == b.pivots);
     }
 }
 
@@ -464,3 +476,5 @@ TEST_CASE("compressed-row assembly holds exactly the entries of the dense assemb
         checkSparseEqualsDense(s.bodies, s.contacts, options);
     }
 }
+
+}  // TEST_SUITE
