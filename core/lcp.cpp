@@ -231,6 +231,19 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     };
     if (n == 0) return finishWith(LcpStatus::solved, nullptr);
 
+    ws.aMax = std::max(ws.aMax, 1.0);  // d = 1 is part of the column space
+
+    // ---- Start: a warm basis if one is given and usable, else the all-slack basis. ---------------------------
+    // A guess that checks out needs none of the pivoting state, so it is tried before that state is set up.
+    std::vector<int> guess;
+    bool inRange = false;
+    if (options.warmBasis && !options.warmBasis->empty()) {
+        guess = *options.warmBasis;
+        std::sort(guess.begin(), guess.end());
+        guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
+        inRange = guess.front() >= 0 && guess.back() < n;
+        if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
+    }
     ws.cap = 0;
     ws.reserveBlock(std::min(n + 1, 64));
     ws.rowIdx.assign(nn + 1, -1);
@@ -253,16 +266,8 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     ws.vrow.assign(nn + 1, 0.0);
     ws.tmp.assign(nn + 1, 0.0);
     ws.d.assign(nn, 1.0);
-    ws.aMax = std::max(ws.aMax, 1.0);  // d = 1 is part of the column space
-
-    // ---- Start: a warm basis if one is given and usable, else the all-slack basis. ---------------------------
     bool warm = false;
     if (options.warmBasis && !options.warmBasis->empty()) {
-        std::vector<int> guess(*options.warmBasis);
-        std::sort(guess.begin(), guess.end());
-        guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
-        const bool inRange = guess.front() >= 0 && guess.back() < n;
-        if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
         ws.ensureColumns();
         if (inRange) {
             ws.m = int(guess.size());
