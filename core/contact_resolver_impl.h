@@ -53,6 +53,28 @@ bool isImmovable(const ResolverBody<D>& body) {
 // row's slot, 0 for A and 1 for B) and I_k^-1 r*_ki of each; row i's entries are then the merge of the row lists of
 // its two bodies. An entry shared by both bodies (two rows on the same pair) is summed in body index order, so every
 // A_ij is the same sum, in the same order, whether it is built densely (addTo) or in compressed rows (appendRow).
+// Appends compressed-row entries into storage sized beforehand to an upper bound (no per-entry growth checks);
+// finish() trims it to what was written.
+struct RowWriter {
+    explicit RowWriter(SparseLcp& lcp, std::size_t bound) : lcp(lcp) {
+        lcp.cols.resize(bound);
+        lcp.vals.resize(bound);
+    }
+    void push(int j, double v) {
+        lcp.cols[size] = j;
+        lcp.vals[size] = v;
+        ++size;
+    }
+    int row(int i) const { return lcp.rowStart[std::size_t(i)]; }
+    void endRow(int i) { lcp.rowStart[std::size_t(i) + 1] = int(size); }
+    void finish() {
+        lcp.cols.resize(size);
+        lcp.vals.resize(size);
+    }
+    SparseLcp& lcp;
+    std::size_t size = 0;
+};
+
 template <class D>
 class Coupling {
 public:
@@ -97,7 +119,7 @@ public:
 
     /// Appends row i's nonzero entries (columns ascending) to cols/vals; raises maxAbs to their largest |value| and
     /// clears `finite` on a NaN or infinity.
-    void appendRow(int i, std::vector<int>& cols, std::vector<double>& vals, double& maxAbs, bool& finite) const {
+    void appendRow(int i, RowWriter& out, double& maxAbs, bool& finite) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
         const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
         const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
@@ -124,8 +146,7 @@ public:
                 v = a < b ? ta + tb : tb + ta;
             }
             if (v != 0.0) {
-                cols.push_back(j);
-                vals.push_back(v);
+                out.push(j, v);
                 const double m = std::fabs(v);
                 finite = finite && m <= std::numeric_limits<double>::max();
                 maxAbs = m > maxAbs ? m : maxAbs;
@@ -281,14 +302,14 @@ SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     SparseLcp lcp;
     lcp.n = int(contacts.size());
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
-    lcp.cols.reserve(coupling.entryBound());
-    lcp.vals.reserve(coupling.entryBound());
+    detail::RowWriter out(lcp, coupling.entryBound());
     double maxAbs = 0.0;
     bool finite = true;
     for (int i = 0; i < lcp.n; ++i) {
-        coupling.appendRow(i, lcp.cols, lcp.vals, maxAbs, finite);
-        lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
+        coupling.appendRow(i, out, maxAbs, finite);
+        out.endRow(i);
     }
+    out.finish();
     lcp.b = detail::normalRhsAll(bodies, contacts, options);
     lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
     return lcp;
@@ -400,39 +421,30 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     double maxAbs = 1.0;  // the +-1 entries of E
     bool finite = true;
     const std::size_t bound = coupling.entryBound() + std::size_t(nc) * std::size_t(2 * k + 1);
-    lcp.cols.reserve(bound);
-    lcp.vals.reserve(bound);
+    detail::RowWriter out(lcp, bound);
     for (int i = 0; i < nr; ++i) {
         const int partner = i >= layout.tangentOffset() ? detail::negatedEarlierRow(sys.rows, i, layout) : -1;
         if (partner >= 0) {
             // Row i is exactly -1 times an earlier tangent row of its contact (+t / -t pairs): every coupling term
             // is that row's term negated, bit for bit (negation is exact, and so are the products and sums of
             // negated values), so copy them rather than recompute. The partner's last entry is its slack column.
-            for (int e = lcp.rowStart[std::size_t(partner)]; e < lcp.rowStart[std::size_t(partner) + 1] - 1; ++e) {
-                lcp.cols.push_back(lcp.cols[std::size_t(e)]);
-                lcp.vals.push_back(-lcp.vals[std::size_t(e)]);
-            }
+            for (int e = out.row(partner); e < out.row(partner + 1) - 1; ++e)
+                out.push(lcp.cols[std::size_t(e)], -lcp.vals[std::size_t(e)]);
         } else {
-            coupling.appendRow(i, lcp.cols, lcp.vals, maxAbs, finite);
+            coupling.appendRow(i, out, maxAbs, finite);
         }
-        if (i >= layout.tangentOffset()) {
-            lcp.cols.push_back(layout.slackOffset() + (i - layout.tangentOffset()) / k);
-            lcp.vals.push_back(1.0);
-        }
-        lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size());
+        if (i >= layout.tangentOffset()) out.push(layout.slackOffset() + (i - layout.tangentOffset()) / k, 1.0);
+        out.endRow(i);
     }
     for (int c = 0; c < nc; ++c) {
         if (sys.mu[std::size_t(c)] != 0.0) {
-            lcp.cols.push_back(c);
-            lcp.vals.push_back(sys.mu[std::size_t(c)]);
+            out.push(c, sys.mu[std::size_t(c)]);
             maxAbs = std::max(maxAbs, sys.mu[std::size_t(c)]);  // mu is finite and >= 0 (validate)
         }
-        for (int m = 0; m < k; ++m) {
-            lcp.cols.push_back(layout.tangentOffset() + c * k + m);
-            lcp.vals.push_back(-1.0);
-        }
-        lcp.rowStart[std::size_t(nr + c) + 1] = int(lcp.cols.size());
+        for (int m = 0; m < k; ++m) out.push(layout.tangentOffset() + c * k + m, -1.0);
+        out.endRow(nr + c);
     }
+    out.finish();
     lcp.b = std::move(sys.b);
     lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
     if (outLayout) *outLayout = layout;
