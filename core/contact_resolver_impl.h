@@ -267,9 +267,9 @@ namespace detail {
 
 template <class D>
 std::vector<JacobianRow<D>> normalRows(const std::vector<ResolverBody<D>>& bodies,
-                                       const std::vector<ContactNode<D>>& contacts) {
+                                       const std::vector<ContactNode<D>>& contacts, std::size_t capacity = 0) {
     std::vector<JacobianRow<D>> rows;
-    rows.reserve(contacts.size());
+    rows.reserve(std::max(capacity, contacts.size()));
     for (const auto& c : contacts) rows.push_back(makeRow(bodies, c, c.normal));
     return rows;
 }
@@ -344,8 +344,7 @@ FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies
     layout.directions = D::frictionDirectionCount(options.frictionDirections);
     const int nc = layout.contacts;
     const int k = layout.directions;
-    sys.rows = normalRows(bodies, contacts);
-    sys.rows.reserve(std::size_t(nc * (k + 1)));
+    sys.rows = normalRows(bodies, contacts, std::size_t(nc) * std::size_t(k + 1));  // room for the tangent rows
     sys.b.assign(std::size_t(layout.size()), 0.0);
     sys.mu.resize(std::size_t(nc));
     for (int c = 0; c < nc; ++c) {

@@ -104,7 +104,7 @@ bool trySparseBasis(LemkeSolver::Workspace& ws, const std::vector<int>& guess, c
     }
     std::fill(out.z.begin(), out.z.end(), 0.0);
     for (int q = 0; q < k; ++q) out.z[std::size_t(guess[std::size_t(q)])] = z[std::size_t(q)];
-    out.w = w;
+    out.w.swap(w);
     out.residual = complementarityResidual(out.z, out.w);
     out.scaledResidual = out.residual / scale;
     if (!(out.scaledResidual <= options.residualTolerance)) return false;
