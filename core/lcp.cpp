@@ -26,6 +26,7 @@
 #include <limits>
 #include <memory>
 #include <set>
+#include <utility>
 
 namespace unison {
 
@@ -170,16 +171,8 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
 }
 
 LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options) {
-    LcpResult result;
-    if (problem.n < 0 || problem.b.size() != std::size_t(problem.n)) {
-        result.message = "LCP sizes do not match: b must have n entries";
-        return result;
-    }
-    Workspace& ws = workspace();
-    ws.n = problem.n;
-    result.message = ws.loadSparse(problem);
-    if (!result.message.empty()) return result;
-    return run(ws, problem.b.data(), options);
+    SparseLcp copy = problem;  // the solver keeps its own compressed rows either way
+    return solve(std::move(copy), options);
 }
 
 LcpResult LemkeSolver::solve(SparseLcp&& problem, const LcpOptions& options) {

@@ -271,17 +271,6 @@ struct LemkeSolver::Workspace {
         return "sparse LCP: malformed";
     }
 
-    /// Copies a compressed-row A; returns an empty string or what is wrong with it.
-    std::string loadSparse(const SparseLcp& lcp) {
-        std::string why = checkSparse(lcp);
-        if (!why.empty()) return why;
-        rowStart = lcp.rowStart;
-        rowCol = lcp.cols;
-        rowVal = lcp.vals;
-        columnsReady = false;
-        return {};
-    }
-
     /// Takes a compressed-row A over (no copy); `lcp` is left empty.
     std::string takeSparse(SparseLcp& lcp) {
         std::string why = checkSparse(lcp);
