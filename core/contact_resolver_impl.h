@@ -88,6 +88,7 @@ public:
         std::vector<int> fill(mStart.begin(), mStart.end() - 1);
         mEntries.resize(std::size_t(mStart.back()));
         mRowEntry.resize(2 * rows.size());
+        mBodyOf.resize(2 * rows.size());
         for (int i = 0; i < int(rows.size()); ++i) {
             const JacobianRow<D>& r = rows[std::size_t(i)];
             for (int s = 0; s < 2; ++s) {
@@ -96,12 +97,8 @@ public:
                 // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part in term().
                 mEntries[e] = {i, r.lin[s], r.ang[s], D::applyInvInertia(bodies[std::size_t(k)].invInertia, r.ang[s])};
                 mRowEntry[2 * std::size_t(i) + std::size_t(s)] = int(e);
+                mBodyOf[2 * std::size_t(i) + std::size_t(s)] = k;
             }
-        }
-        mBodyOf.resize(rows.size() * 2);
-        for (int i = 0; i < int(rows.size()); ++i) {
-            mBodyOf[2 * std::size_t(i)] = rows[std::size_t(i)].body[0];
-            mBodyOf[2 * std::size_t(i) + 1] = rows[std::size_t(i)].body[1];
         }
     }
 
