@@ -451,8 +451,15 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         const double tolW = options.pivotTolerance * (yMax * ws.aMax + enterMax);
         const double zeroY = 1e-13 * std::max(zMax, kTiny);
         const double zeroW = 1e-13 * (ws.bMax + ws.aMax * zMax);
-        cands.clear();
+        // The start test (once per path) collects every candidate; the min test of the pivots that follow scans twice
+        // without storing them: once for the smallest ratio, once for the ties. The ratio is computed only where
+        // it can matter: v > limit * -dv means v / -dv > limit (the 1 + 1e-9 margin covers the rounding of both
+        // sides), so the division is skipped. Same candidates, same ratios, same order as collecting them all.
+        double best = std::numeric_limits<double>::infinity();
+        tied.clear();
+        bool z0Tied = false;
         if (startStep) {
+            cands.clear();
             // z0 rises until every basic value is >= 0: the leaving variable is the one that needs the most.
             for (int q = 0; q < m; ++q) {
                 const double v = ws.zval[std::size_t(q)], dv = ws.dy[std::size_t(q)];
@@ -464,24 +471,59 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
                 const double v = ws.wval[std::size_t(i)], dv = ws.dw[std::size_t(i)];
                 if (v < -zeroW && dv > tolW) cands.push_back({false, i, -v / dv, -ws.wval2[std::size_t(i)] / dv, dv, i});
             }
+            if (!cands.empty()) {
+                best = cands[0].ratio;
+                for (const Candidate& c : cands) best = std::max(best, c.ratio);
+                const double tieTol = 1e-12 * best;
+                for (const Candidate& c : cands) {
+                    if (std::fabs(c.ratio - best) <= tieTol) tied.push_back(c);
+                }
+            }
         } else {
+            constexpr double kMargin = 1.0 + 1e-9;
+            const double* const zv = ws.zval.data();
+            const double* const dyv = ws.dy.data();
+            const double* const wv = ws.wval.data();
+            const double* const dwv = ws.dw.data();
+            const int* const posRow = ws.posRow.data();
+            auto zValue = [&](int q) { return zv[q] > zeroY ? zv[q] : 0.0; };
+            auto wValue = [&](int i) { return wv[i] > zeroW ? wv[i] : 0.0; };
             for (int q = 0; q < m; ++q) {
-                const double dv = ws.dy[std::size_t(q)];
+                const double dv = dyv[q];
                 if (dv < -tolY) {
-                    const double v = ws.zval[std::size_t(q)] > zeroY ? ws.zval[std::size_t(q)] : 0.0;
-                    cands.push_back({true, q, v / -dv, ws.zval2[std::size_t(q)] / -dv, dv, ws.colVar[std::size_t(q)]});
+                    const double v = zValue(q);
+                    if (v <= best * -dv * kMargin) best = std::min(best, v / -dv);
                 }
             }
             for (int i = 0; i < n; ++i) {
-                if (ws.posRow[std::size_t(i)] >= 0) continue;
-                const double dv = ws.dw[std::size_t(i)];
-                if (dv < -tolW) {
-                    const double v = ws.wval[std::size_t(i)] > zeroW ? ws.wval[std::size_t(i)] : 0.0;
-                    cands.push_back({false, i, v / -dv, ws.wval2[std::size_t(i)] / -dv, dv, i});
+                const double dv = dwv[i];
+                if (posRow[i] < 0 && dv < -tolW) {
+                    const double v = wValue(i);
+                    if (v <= best * -dv * kMargin) best = std::min(best, v / -dv);
+                }
+            }
+            const double tieTol = 1e-12 * best;
+            const double limit = best + tieTol;
+            for (int q = 0; q < m; ++q) {
+                const double dv = dyv[q];
+                if (dv < -tolY) {
+                    const double v = zValue(q);
+                    if (v <= limit * -dv * kMargin && std::fabs(v / -dv - best) <= tieTol) {
+                        tied.push_back({true, q, v / -dv, ws.zval2[std::size_t(q)] / -dv, dv, ws.colVar[std::size_t(q)]});
+                        z0Tied = z0Tied || ws.colVar[std::size_t(q)] == n;
+                    }
+                }
+            }
+            for (int i = 0; i < n; ++i) {
+                const double dv = dwv[i];
+                if (posRow[i] < 0 && dv < -tolW) {
+                    const double v = wValue(i);
+                    if (v <= limit * -dv * kMargin && std::fabs(v / -dv - best) <= tieTol)
+                        tied.push_back({false, i, v / -dv, ws.wval2[std::size_t(i)] / -dv, dv, i});
                 }
             }
         }
-        if (cands.empty()) {
+        if (tied.empty()) {
             if (startStep) {
                 // The warm basis could not be repaired by z0 along this covering vector: start cold.
                 LcpOptions cold = options;
@@ -492,17 +534,6 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
                 return r;
             }
             return finishWith(LcpStatus::infeasible, "secondary ray: Lemke found no solution (the LCP may have none)");
-        }
-        double best = cands[0].ratio;
-        for (const Candidate& c : cands) best = startStep ? std::max(best, c.ratio) : std::min(best, c.ratio);
-        const double tieTol = 1e-12 * best;
-        tied.clear();
-        bool z0Tied = false;
-        for (const Candidate& c : cands) {
-            if (std::fabs(c.ratio - best) <= tieTol) {
-                tied.push_back(c);
-                z0Tied = z0Tied || (c.isColumn && c.var == n);
-            }
         }
         Candidate leave = tied[0];
         if (z0Tied && !startStep) {
