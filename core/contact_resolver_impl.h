@@ -116,7 +116,9 @@ public:
 
     /// Appends row i's nonzero entries (columns ascending) to cols/vals; raises maxAbs to their largest |value| and
     /// clears `finite` on a NaN or infinity.
-    void appendRow(int i, RowWriter& out, double& maxAbs, bool& finite) const {
+    /// Row i's entries into `out`; with `keep`, only the columns j with keep[j] != 0 (their values are the same).
+    template <bool Restricted = false>
+    void appendRow(int i, RowWriter& out, double& maxAbs, bool& finite, const char* keep = nullptr) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
         const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
         const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
@@ -129,6 +131,14 @@ public:
         while (pa != ea || pb != eb) {
             const int ja = pa != ea ? pa->row : kEnd;
             const int jb = pb != eb ? pb->row : kEnd;
+            if (Restricted) {
+                const int jmin = ja < jb ? ja : jb;
+                if (!keep[jmin]) {
+                    pa += ja == jmin;
+                    pb += jb == jmin;
+                    continue;
+                }
+            }
             double v;
             int j;
             if (ja < jb) {
@@ -149,6 +159,18 @@ public:
                 maxAbs = m > maxAbs ? m : maxAbs;
             }
         }
+    }
+
+    /// A_ii, the same sum appendRow forms for column i of row i.
+    double diagonal(int i) const {
+        const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
+        const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
+        const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
+        const bool ma = movable(a), mb = movable(b);
+        const double ta = ma ? term(mBodies[std::size_t(a)].invMass, ia, ia) : 0.0;
+        const double tb = mb ? term(mBodies[std::size_t(b)].invMass, ib, ib) : 0.0;
+        if (ma && mb) return a < b ? ta + tb : tb + ta;
+        return ma ? ta : tb;
     }
 
     /// Adds every term to `lcp` (dense assembly), bodies in index order.
@@ -401,52 +423,74 @@ Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::v
     return lcp.toDense();
 }
 
-template <class D>
-SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
-                                    const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
-                                    FrictionLayout* outLayout) {
-    // The same entries as assembleFrictionLcp, written row by row: coupling rows (each tangent row ending with its
-    // slack column, the largest index), then the slack rows [mu at the normal, -1 at each tangent].
-    detail::FrictionSystem<D> sys = detail::buildFrictionSystem(bodies, contacts, options);
+namespace detail {
+
+// The rows of the friction LCP in compressed form: coupling rows (each tangent row ending with its slack column, the
+// largest index), then the slack rows [mu at the normal, -1 at each tangent]. With `keep` (Restricted), only the
+// columns j with keep[j] != 0 (see LemkeSolver::checkGuess). Either way maxAbs is the largest of the diagonal
+// entries, the friction coefficients and 1: computable from the diagonal alone, so the part and the whole carry
+// the same voucher, and equal to max |A_ij| up to rounding (the coupling block is a Gram matrix: |A_ij| <=
+// sqrt(A_ii A_jj)).
+template <class D, bool Restricted>
+SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& coupling, const char* keep) {
     const FrictionLayout& layout = sys.layout;
     const int nc = layout.contacts, k = layout.directions, nr = int(sys.rows.size());
-    const detail::Coupling<D> coupling(bodies, sys.rows);
     SparseLcp lcp;
     lcp.n = layout.size();
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
     double maxAbs = 1.0;  // the +-1 entries of E
     bool finite = true;
     const std::size_t bound = coupling.entryBound() + std::size_t(nc) * std::size_t(2 * k + 1);
-    detail::RowWriter out(lcp, bound);
+    RowWriter out(lcp, bound);
+    auto kept = [&](int j) { return !Restricted || keep[j] != 0; };
     for (int i = 0; i < nr; ++i) {
-        const int partner = i >= layout.tangentOffset() ? detail::negatedEarlierRow(sys.rows, i, layout) : -1;
+        const int slack = i >= layout.tangentOffset() ? layout.slackOffset() + (i - layout.tangentOffset()) / k : -1;
+        const int partner = slack >= 0 ? negatedEarlierRow(sys.rows, i, layout) : -1;
         if (partner >= 0) {
             // Row i is exactly -1 times an earlier tangent row of its contact (+t / -t pairs): every coupling term
             // is that row's term negated, bit for bit (negation is exact, and so are the products and sums of
-            // negated values), so copy them rather than recompute. The partner's last entry is its slack column.
-            for (int e = out.row(partner); e < out.row(partner + 1) - 1; ++e)
-                out.push(lcp.cols[std::size_t(e)], -lcp.vals[std::size_t(e)]);
+            // negated values), so copy them rather than recompute. The partner's slack column is not copied.
+            for (int e = out.row(partner); e < out.row(partner + 1); ++e) {
+                if (lcp.cols[std::size_t(e)] != slack) out.push(lcp.cols[std::size_t(e)], -lcp.vals[std::size_t(e)]);
+            }
         } else {
-            coupling.appendRow(i, out, maxAbs, finite);
+            double pushedMax = 0.0;  // finiteness of the entries is what counts here; the scale is the diagonal's
+            coupling.template appendRow<Restricted>(i, out, pushedMax, finite, keep);
+            const double d = std::fabs(coupling.diagonal(i));
+            finite = finite && d <= std::numeric_limits<double>::max();
+            maxAbs = d > maxAbs ? d : maxAbs;
         }
-        if (i >= layout.tangentOffset()) out.push(layout.slackOffset() + (i - layout.tangentOffset()) / k, 1.0);
+        if (slack >= 0 && kept(slack)) out.push(slack, 1.0);
         out.endRow(i);
     }
     for (int c = 0; c < nc; ++c) {
         if (sys.mu[std::size_t(c)] != 0.0) {
-            out.push(c, sys.mu[std::size_t(c)]);
+            if (kept(c)) out.push(c, sys.mu[std::size_t(c)]);
             maxAbs = std::max(maxAbs, sys.mu[std::size_t(c)]);  // mu is finite and >= 0 (validate)
         }
-        for (int m = 0; m < k; ++m) out.push(layout.tangentOffset() + c * k + m, -1.0);
+        for (int m = 0; m < k; ++m) {
+            if (kept(layout.tangentOffset() + c * k + m)) out.push(layout.tangentOffset() + c * k + m, -1.0);
+        }
         out.endRow(nr + c);
     }
     out.finish();
-    lcp.b = std::move(sys.b);
     lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
-    if (outLayout) *outLayout = layout;
     return lcp;
 }
 
+}  // namespace detail
+
+template <class D>
+SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
+                                    const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
+                                    FrictionLayout* outLayout) {
+    // The same entries as assembleFrictionLcp, written row by row.
+    detail::FrictionSystem<D> sys = detail::buildFrictionSystem(bodies, contacts, options);
+    SparseLcp lcp = detail::writeFrictionRows<D, false>(sys, detail::Coupling<D>(bodies, sys.rows), nullptr);
+    lcp.b = std::move(sys.b);
+    if (outLayout) *outLayout = sys.layout;
+    return lcp;
+}
 
 template <class D>
 void applyImpulses(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
@@ -506,9 +550,32 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     Resolution out;
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
-    FrictionLayout layout;
-    SparseLcp lcp = assembleFrictionLcpSparse(ioBodies, contacts, options, &layout);
-    LcpResult r = solver.solve(std::move(lcp), options.lcp);
+    detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, options);
+    const FrictionLayout layout = sys.layout;
+    const detail::Coupling<D> coupling(ioBodies, sys.rows);
+    LcpResult r;
+    const std::vector<int>* guess = options.lcp.warmBasis;
+    if (guess && !guess->empty()) {
+        // A resting island's guess is usually right, and checking it needs only A's columns in the guess (a small
+        // part of A: most unknowns of a pile are zero). The full A is built only when the guess fails; the answer
+        // is the same bits either way (LemkeSolver::checkGuess).
+        std::vector<char> keep(std::size_t(layout.size()), 0);
+        bool inRange = true;
+        for (int j : *guess) {
+            inRange = inRange && j >= 0 && j < layout.size();
+            if (inRange) keep[std::size_t(j)] = 1;
+        }
+        if (inRange) {
+            SparseLcp part = detail::writeFrictionRows<D, true>(sys, coupling, keep.data());
+            part.b = sys.b;
+            r = solver.checkGuess(std::move(part), options.lcp);
+        }
+    }
+    if (r.status != LcpStatus::solved) {
+        SparseLcp lcp = detail::writeFrictionRows<D, false>(sys, coupling, nullptr);
+        lcp.b = std::move(sys.b);
+        r = solver.solve(std::move(lcp), options.lcp);
+    }
     if (!detail::takeSolveReport(r, out, options)) return out;
     const int nc = layout.contacts;
     const int k = layout.directions;

@@ -206,6 +206,55 @@ LcpResult LemkeSolver::solve(SparseLcp&& problem, const LcpOptions& options) {
     return run(ws, ws.bStore.data(), options);
 }
 
+LcpResult LemkeSolver::checkGuess(SparseLcp&& guessColumns, const LcpOptions& options) {
+    LcpResult result;
+    result.status = LcpStatus::pivot_limit;
+    const int n = guessColumns.n;
+    const bool optionsValid = options.pivotTolerance >= 0.0 && options.pivotTolerance < 1.0 &&
+                              options.residualTolerance >= 0.0 && options.degeneracyPerturbation >= 0.0 &&
+                              options.degeneracyPerturbation <= 1e-2 && options.maxPivots >= 0;
+    if (n <= 0 || guessColumns.b.size() != std::size_t(n) || !(guessColumns.maxAbs >= 0.0) || !options.warmBasis ||
+        options.warmBasis->empty() || !optionsValid) {  // solve() reports what is wrong
+        result.message = "checkGuess needs a guess and a vouched-for matrix";
+        return result;
+    }
+    std::vector<int> guess = *options.warmBasis;
+    std::sort(guess.begin(), guess.end());
+    guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
+    if (guess.front() < 0 || guess.back() >= n) {
+        result.message = "guess out of range";
+        return result;
+    }
+    Workspace& ws = workspace();
+    ws.n = n;
+    const std::string why = ws.takeSparse(guessColumns);
+    if (!why.empty()) {
+        result.message = why;
+        return result;
+    }
+    ws.bStore.swap(guessColumns.b);
+    // The same preparation as run() up to its warm-start check.
+    const double* b = ws.bStore.data();
+    ws.b = b;
+    ws.aMax = ws.aMaxA;
+    ws.bMax = 0.0;
+    for (int i = 0; i < n; ++i) {
+        if (!std::isfinite(b[i])) {
+            result.message = "b has a non-finite entry";
+            return result;
+        }
+        ws.bMax = std::max(ws.bMax, std::fabs(b[i]));
+    }
+    const double scale = std::max({ws.aMax, ws.bMax, kTiny});
+    result.z.assign(std::size_t(n), 0.0);
+    result.w.assign(b, b + n);
+    std::vector<int> corrected;
+    if (trySparseBasis(ws, guess, options, scale, result, corrected)) return result;
+    result.status = LcpStatus::pivot_limit;
+    result.message = "the guess does not check out";
+    return result;
+}
+
 LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft) {
     LcpResult result;
     const int n = ws.n;

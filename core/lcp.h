@@ -41,8 +41,11 @@ struct SparseLcp {
     std::vector<double> vals;   ///< (nnz)
     std::vector<double> b;      ///< (n)
     /// Set (>= 0) only by an assembler that built the rows itself and vouches for them: columns strictly increasing
-    /// and in range, every value finite, and maxAbs = max |A_ij|. The solver then skips its O(nnz) check of A
-    /// (it still checks sizes and b). Leave it at -1 for matrices built any other way.
+    /// and in range, every value finite, and maxAbs the scale of A for the solver's tolerances in place of
+    /// max |A_ij|: either that, or a value an assembler can compute without building all of A (the contact
+    /// assemblers use the largest of the diagonal entries, the friction coefficients and 1, which for their
+    /// matrices is max |A_ij| up to rounding). The solver then skips its O(nnz) check of A (it still checks sizes
+    /// and b). Leave it at -1 for matrices built any other way.
     double maxAbs = -1.0;
 };
 
@@ -142,6 +145,15 @@ public:
     LcpResult solve(const SparseLcp& problem, const LcpOptions& options = {});
     /// Same, taking the problem's storage over instead of copying it (`problem` is left in an unspecified state).
     LcpResult solve(SparseLcp&& problem, const LcpOptions& options = {});
+
+    /// Checks the guess `options.warmBasis` without pivoting, on a matrix that holds only the guess's columns:
+    /// `guessColumns` has every row of A but only its entries in the guessed columns, and must carry the same
+    /// maxAbs voucher as the full matrix would (see SparseLcp::maxAbs). An assembler can build that much of A far
+    /// more cheaply than all of it. Returns `solved` exactly when solve() on the full matrix would accept the
+    /// guess as it stands, with bit for bit the same answer. Otherwise the status is pivot_limit with no pivots
+    /// done, and the caller solves the full problem (whose warm start may still correct the guess).
+    /// `guessColumns` is taken over.
+    LcpResult checkGuess(SparseLcp&& guessColumns, const LcpOptions& options);
 
     /// Per-solve state (defined in lcp.cpp); public only so that lcp.cpp's helpers can name it.
     struct Workspace;

@@ -442,8 +442,9 @@ void checkSparseEqualsDense(const std::vector<ResolverBody<D>>& bodies, const st
         REQUIRE(sparse.vals.size() == dense.vals.size());
         CHECK(std::memcmp(sparse.vals.data(), dense.vals.data(), dense.vals.size() * sizeof(double)) == 0);
         CHECK(std::memcmp(sparse.b.data(), dense.b.data(), dense.b.size() * sizeof(double)) == 0);
-        // The assembler vouches for its rows (SparseLcp::maxAbs), so the solver skips its own check: it must be
-        // exactly the largest |A_ij|, and solving with or without the voucher gives the same bits.
+        // The assembler vouches for its rows (SparseLcp::maxAbs), so the solver skips its own check. The voucher
+        // is the largest diagonal entry, friction coefficient or 1; for these matrices that is exactly the largest
+        // |A_ij|, and solving with or without the voucher gives the same bits.
         double maxAbs = 0.0;
         for (double v : dense.vals) maxAbs = std::max(maxAbs, std::fabs(v));
         CHECK(sparse.maxAbs == maxAbs);
@@ -457,7 +458,107 @@ void checkSparseEqualsDense(const std::vector<ResolverBody<D>>& bodies, const st
     }
 }
 
+// checkGuess on the guess's columns only against solve() on the whole matrix with the same warm start.
+void checkGuessAgainstSolve(const SparseLcp& full) {
+    LemkeSolver solver;
+    const LcpResult cold = solver.solve(full);
+    REQUIRE(cold.status == LcpStatus::solved);
+    REQUIRE(!cold.basis.empty());
+    auto columnsOf = [&](const std::vector<int>& guess) {
+        std::vector<char> keep(std::size_t(full.n), 0);
+        for (int j : guess) keep[std::size_t(j)] = 1;
+        SparseLcp part;
+        part.n = full.n;
+        part.b = full.b;
+        part.maxAbs = full.maxAbs;
+        part.rowStart.push_back(0);
+        for (int i = 0; i < full.n; ++i) {
+            for (int t = full.rowStart[std::size_t(i)]; t < full.rowStart[std::size_t(i) + 1]; ++t) {
+                if (!keep[std::size_t(full.cols[std::size_t(t)])]) continue;
+                part.cols.push_back(full.cols[std::size_t(t)]);
+                part.vals.push_back(full.vals[std::size_t(t)]);
+            }
+            part.rowStart.push_back(int(part.cols.size()));
+        }
+        return part;
+    };
+    LcpOptions options;
+    SUBCASE("the right guess: the same bits as the full solve, no pivots") {
+        options.warmBasis = &cold.basis;
+        const LcpResult whole = solver.solve(full, options);
+        const LcpResult part = solver.checkGuess(columnsOf(cold.basis), options);
+        REQUIRE(part.status == LcpStatus::solved);
+        CHECK(whole.pivots == 0);
+        CHECK(part.pivots == 0);
+        REQUIRE(part.z.size() == whole.z.size());
+        CHECK(std::memcmp(part.z.data(), whole.z.data(), whole.z.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(part.w.data(), whole.w.data(), whole.w.size() * sizeof(double)) == 0);
+        CHECK(part.basis == whole.basis);
+        CHECK(part.scaledResidual == whole.scaledResidual);
+    }
+    SUBCASE("a wrong guess is refused without pivoting; the full solve still finds an answer") {
+        std::vector<int> wrong(cold.basis.begin(), cold.basis.begin() + std::ptrdiff_t(cold.basis.size() / 2));
+        options.warmBasis = &wrong;
+        const LcpResult part = solver.checkGuess(columnsOf(wrong), options);
+        CHECK(part.status == LcpStatus::pivot_limit);
+        CHECK(part.pivots == 0);
+        const LcpResult whole = solver.solve(full, options);
+        CHECK(whole.status == LcpStatus::solved);  // a pile has many solutions: any one will do
+        CHECK(whole.scaledResidual <= options.residualTolerance);
+    }
+    SUBCASE("no voucher, no guess or a guess out of range: refused, nothing solved") {
+        SparseLcp unvouched = columnsOf(cold.basis);
+        unvouched.maxAbs = -1.0;
+        options.warmBasis = &cold.basis;
+        CHECK(solver.checkGuess(std::move(unvouched), options).status == LcpStatus::pivot_limit);
+        options.warmBasis = nullptr;
+        CHECK(solver.checkGuess(columnsOf(cold.basis), options).status == LcpStatus::pivot_limit);
+        const std::vector<int> outOfRange{0, full.n};
+        options.warmBasis = &outOfRange;
+        CHECK(solver.checkGuess(columnsOf(cold.basis), options).status == LcpStatus::pivot_limit);
+    }
+}
+
+// The world's path (resolveWithFriction with a warm basis: the guess checked on its columns first) against
+// solving the assembled LCP with the same warm start.
+template <class D>
+void checkWarmResolveMatchesSolve(const std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                                  ResolverOptions options) {
+    LemkeSolver solver;
+    const SparseLcp full = assembleFrictionLcpSparse(bodies, contacts, options);
+    const LcpResult cold = solver.solve(full);
+    REQUIRE(cold.status == LcpStatus::solved);
+    options.lcp.warmBasis = &cold.basis;
+    const LcpResult direct = solver.solve(full, options.lcp);
+    std::vector<ResolverBody<D>> io = bodies;
+    const Resolution r = resolveWithFriction(io, contacts, options, solver);
+    REQUIRE(r.status == LcpStatus::solved);
+    CHECK(r.pivots == 0);
+    REQUIRE(r.impulses.size() <= direct.z.size());
+    CHECK(std::memcmp(r.impulses.data(), direct.z.data(), r.impulses.size() * sizeof(double)) == 0);
+    CHECK(r.basis == direct.basis);
+}
+
 }  // namespace
+
+TEST_CASE("a guess checked on its columns alone gives the full solve's answer bit for bit") {
+    ResolverOptions options;
+    options.frictionDirections = 4;
+    SUBCASE("2D pyramid, friction LCP") {
+        const scenes::Scene2 s = scenes::pyramid2dScene(6);
+        checkGuessAgainstSolve(assembleFrictionLcpSparse(s.bodies, s.contacts, options));
+    }
+    SUBCASE("3D cube stack, friction LCP") {
+        const scenes::Scene3 s = scenes::cubeStack3dScene(4);
+        checkGuessAgainstSolve(assembleFrictionLcpSparse(s.bodies, s.contacts, options));
+    }
+    SUBCASE("resolveWithFriction with a warm basis, 2D and 3D") {
+        const scenes::Scene2 s2 = scenes::pyramid2dScene(6);
+        checkWarmResolveMatchesSolve(s2.bodies, s2.contacts, options);
+        const scenes::Scene3 s3 = scenes::cubeStack3dScene(4);
+        checkWarmResolveMatchesSolve(s3.bodies, s3.contacts, options);
+    }
+}
 
 TEST_CASE("compressed-row assembly holds exactly the entries of the dense assembly") {
     ResolverOptions options;
