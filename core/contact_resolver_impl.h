@@ -102,43 +102,52 @@ public:
         }
     }
 
-    /// An upper bound on the entries of all rows (every row meets each row of its two bodies at most once).
+    /// Restricts the columns of appendRow<true> to the rows j with keep[j] != 0: each body's list of rows is
+    /// filtered once here, rather than every row that meets the body skipping the same entries.
+    void keepColumns(const char* keep) {
+        mKeptStart.assign(mStart.size(), 0);
+        mKept.clear();
+        for (std::size_t k = 0; k + 1 < mStart.size(); ++k) {
+            for (int e = mStart[k]; e < mStart[k + 1]; ++e) {
+                if (keep[mEntries[std::size_t(e)].row]) mKept.push_back(mEntries[std::size_t(e)]);
+            }
+            mKeptStart[k + 1] = int(mKept.size());
+        }
+    }
+
+    /// An upper bound on the entries of all rows (every row meets each row of its two bodies at most once); with
+    /// Restricted, of the columns kept by keepColumns.
+    template <bool Restricted = false>
     std::size_t entryBound() const {
+        const std::vector<int>& start = Restricted ? mKeptStart : mStart;
         std::size_t total = 0;
         for (std::size_t i = 0; 2 * i < mBodyOf.size(); ++i) {
             for (int s = 0; s < 2; ++s) {
                 const int k = mBodyOf[2 * i + std::size_t(s)];
-                if (movable(k)) total += std::size_t(mStart[std::size_t(k) + 1] - mStart[std::size_t(k)]);
+                if (movable(k)) total += std::size_t(start[std::size_t(k) + 1] - start[std::size_t(k)]);
             }
         }
         return total;
     }
 
-    /// Appends row i's nonzero entries (columns ascending) to cols/vals; raises maxAbs to their largest |value| and
-    /// clears `finite` on a NaN or infinity.
-    /// Row i's entries into `out`; with `keep`, only the columns j with keep[j] != 0 (their values are the same).
+    /// Appends row i's nonzero entries (columns ascending) to `out`; raises maxAbs to their largest |value| and
+    /// clears `finite` on a NaN or infinity. Restricted: only the columns kept by keepColumns (same values).
     template <bool Restricted = false>
-    void appendRow(int i, RowWriter& out, double& maxAbs, bool& finite, const char* keep = nullptr) const {
+    void appendRow(int i, RowWriter& out, double& maxAbs, bool& finite) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
         const Entry& ia = mEntries[std::size_t(mRowEntry[2 * std::size_t(i)])];
         const Entry& ib = mEntries[std::size_t(mRowEntry[2 * std::size_t(i) + 1])];
         const double ma = mBodies[std::size_t(a)].invMass, mb = mBodies[std::size_t(b)].invMass;
-        const Entry* pa = movable(a) ? &mEntries[std::size_t(mStart[std::size_t(a)])] : nullptr;
-        const Entry* ea = movable(a) ? &mEntries[0] + mStart[std::size_t(a) + 1] : nullptr;
-        const Entry* pb = movable(b) ? &mEntries[std::size_t(mStart[std::size_t(b)])] : nullptr;
-        const Entry* eb = movable(b) ? &mEntries[0] + mStart[std::size_t(b) + 1] : nullptr;
+        const std::vector<Entry>& list = Restricted ? mKept : mEntries;
+        const std::vector<int>& start = Restricted ? mKeptStart : mStart;
+        const Entry* pa = movable(a) ? list.data() + start[std::size_t(a)] : nullptr;
+        const Entry* ea = movable(a) ? list.data() + start[std::size_t(a) + 1] : nullptr;
+        const Entry* pb = movable(b) ? list.data() + start[std::size_t(b)] : nullptr;
+        const Entry* eb = movable(b) ? list.data() + start[std::size_t(b) + 1] : nullptr;
         constexpr int kEnd = std::numeric_limits<int>::max();
         while (pa != ea || pb != eb) {
             const int ja = pa != ea ? pa->row : kEnd;
             const int jb = pb != eb ? pb->row : kEnd;
-            if (Restricted) {
-                const int jmin = ja < jb ? ja : jb;
-                if (!keep[jmin]) {
-                    pa += ja == jmin;
-                    pb += jb == jmin;
-                    continue;
-                }
-            }
             double v;
             int j;
             if (ja < jb) {
@@ -206,6 +215,8 @@ private:
     const std::vector<ResolverBody<D>>& mBodies;
     std::vector<int> mStart, mRowEntry, mBodyOf;
     std::vector<Entry> mEntries;
+    std::vector<int> mKeptStart;  // keepColumns: per body, its entries whose rows are kept
+    std::vector<Entry> mKept;
 };
 
 // Velocity of the contact point along `dir`, body A minus body B, eq. (2) and (4).
@@ -427,7 +438,7 @@ namespace detail {
 
 // The rows of the friction LCP in compressed form: coupling rows (each tangent row ending with its slack column, the
 // largest index), then the slack rows [mu at the normal, -1 at each tangent]. With `keep` (Restricted), only the
-// columns j with keep[j] != 0 (see LemkeSolver::checkGuess). Either way maxAbs is the largest of the diagonal
+// columns j with keep[j] != 0 (see LemkeSolver::checkGuess; `coupling.keepColumns(keep)` must have been called). Either way maxAbs is the largest of the diagonal
 // entries, the friction coefficients and 1: computable from the diagonal alone, so the part and the whole carry
 // the same voucher, and equal to max |A_ij| up to rounding (the coupling block is a Gram matrix: |A_ij| <=
 // sqrt(A_ii A_jj)).
@@ -440,7 +451,7 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
     lcp.rowStart.assign(std::size_t(lcp.n) + 1, 0);
     double maxAbs = 1.0;  // the +-1 entries of E
     bool finite = true;
-    const std::size_t bound = coupling.entryBound() + std::size_t(nc) * std::size_t(2 * k + 1);
+    const std::size_t bound = coupling.template entryBound<Restricted>() + std::size_t(nc) * std::size_t(2 * k + 1);
     RowWriter out(lcp, bound);
     auto kept = [&](int j) { return !Restricted || keep[j] != 0; };
     for (int i = 0; i < nr; ++i) {
@@ -455,7 +466,7 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
             }
         } else {
             double pushedMax = 0.0;  // finiteness of the entries is what counts here; the scale is the diagonal's
-            coupling.template appendRow<Restricted>(i, out, pushedMax, finite, keep);
+            coupling.template appendRow<Restricted>(i, out, pushedMax, finite);
             const double d = std::fabs(coupling.diagonal(i));
             finite = finite && d <= std::numeric_limits<double>::max();
             maxAbs = d > maxAbs ? d : maxAbs;
@@ -552,7 +563,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     if (!out.message.empty()) return out;
     detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, options);
     const FrictionLayout layout = sys.layout;
-    const detail::Coupling<D> coupling(ioBodies, sys.rows);
+    detail::Coupling<D> coupling(ioBodies, sys.rows);
     LcpResult r;
     const std::vector<int>* guess = options.lcp.warmBasis;
     if (guess && !guess->empty()) {
@@ -566,6 +577,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             if (inRange) keep[std::size_t(j)] = 1;
         }
         if (inRange) {
+            coupling.keepColumns(keep.data());
             SparseLcp part = detail::writeFrictionRows<D, true>(sys, coupling, keep.data());
             part.b = sys.b;
             r = solver.checkGuess(std::move(part), options.lcp);
