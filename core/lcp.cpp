@@ -727,14 +727,17 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             assembleSolution();
             if (result.status == LcpStatus::numerical_failure && perturbed) {
                 // The perturbed problem's basis is not exactly right for the true b: continue from it with a
-                // 10x smaller perturbation (still breaking ties), down to none below 1e-9.
+                // 10x smaller perturbation (still breaking ties), down to none below 1e-9. A continuation is a local
+                // repair: it never restarts and gets at most max(100, k / 2) pivots (a cycle or a longer path ends
+                // it, and this answer stands). Unbounded, it once cost a settled 20-row pyramid 3000 pivots (a cold
+                // restart included) to improve a residual of 3e-9.
                 LcpOptions exact = options;
                 exact.degeneracyPerturbation = options.degeneracyPerturbation > 1e-9 ? options.degeneracyPerturbation * 0.1 : 0.0;
-                exact.maxPivots = std::max(1, maxPivots - result.pivots);
+                exact.maxPivots = std::max(1, std::min(maxPivots - result.pivots, std::max(100, ws.m / 2)));
                 if (options.maxWork) exact.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
                 const std::vector<int> basis = result.basis;
                 exact.warmBasis = &basis;
-                LcpResult r = run(ws, b, exact, restartsLeft);
+                LcpResult r = run(ws, b, exact, 0);
                 r.pivots += result.pivots;
                 r.work += result.work;
                 if (r.status != LcpStatus::solved && !(r.status == LcpStatus::numerical_failure && r.scaledResidual <= result.scaledResidual)) {
