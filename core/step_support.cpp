@@ -26,6 +26,12 @@ void WarmStartCache::replace(std::vector<ContactKey>& entries) {
     mEntries.swap(entries);
 }
 
+void WarmStartCache::forgetSlot(std::uint32_t slot1) {
+    mEntries.erase(std::remove_if(mEntries.begin(), mEntries.end(),
+                                  [&](const ContactKey& e) { return e.slotA == slot1 || e.slotB == slot1; }),
+                   mEntries.end());
+}
+
 void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vector<int>& outBasis) {
     if (mask & 1u) outBasis.push_back(ci);
     for (int m = 0; m < k; ++m)

@@ -2,7 +2,7 @@
 // mapping between a friction LCP's basis and per-contact bit masks, and begin/end touch events. (World3's state
 // hash and snapshots are in resolver3d/world3d_state.cpp, on core/state_transfer.h.)
 //
-// Owns no world state; World3 uses it (World2 has the same logic inline and can move onto it).
+// Owns no world state; core/world_step.h (the step of World2 and World3) uses it.
 // Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key.
 #pragma once
 
@@ -33,6 +33,9 @@ public:
     const ContactKey* find(const ContactKey& key) const;
     /// Replaces the contents with `entries` (sorted here).
     void replace(std::vector<ContactKey>& entries);
+    /// Drops the entries of body slot `slot1` (BodyId::index1), keeping the order of the rest. A destroyed body's
+    /// entries must go: they are keyed by slot, and a body created later in the slot would inherit them.
+    void forgetSlot(std::uint32_t slot1);
     const std::vector<ContactKey>& entries() const { return mEntries; }
 
 private:
