@@ -72,7 +72,11 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
     return id;
 }
 
-bool World3::destroyBody(BodyId id) { return mBodies.destroy(id); }
+bool World3::destroyBody(BodyId id) {
+    if (!mBodies.destroy(id)) return false;
+    mStep.cache.forgetSlot(id.index1);
+    return true;
+}
 
 const BodyState3* World3::state(BodyId id) const {
     const int d = mBodies.denseIndex(id);

@@ -102,7 +102,8 @@ public:
     /// Creates a body with its shapes (body frame). Returns a null id and a message when the definition is invalid
     /// (non-finite values, a dynamic body without mass, a plane on a moving body, capacity); the world is unchanged.
     BodyId createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error = nullptr);
-    /// Removes a body; false for a stale or null id.
+    /// Removes a body and its warm-start entries; false for a stale or null id. Its contacts end (end events next
+    /// step).
     bool destroyBody(BodyId id);
 
     /// Advances by one step of 1/hz seconds.

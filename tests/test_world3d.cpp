@@ -349,6 +349,20 @@ TEST_CASE("events: a bouncing ball begins touching the ground once and ends once
     CHECK(world.stateHash() == before);
 }
 
+TEST_CASE("a destroyed body's warm-start entries are not inherited by the next body in its slot") {
+    World3 world;
+    addStatic(world, groundPlane());
+    const BodyId box = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.5, 0));
+    for (int i = 0; i < 10; ++i) world.step();
+    REQUIRE(world.stats().warmStartedIslands == 1);
+    REQUIRE(world.destroyBody(box));
+    const BodyId again = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.5, 0));
+    REQUIRE(again.index1 == box.index1);  // LIFO reuse of the slot
+    world.step();
+    CHECK(world.stats().contacts > 0);
+    CHECK(world.stats().warmStartedIslands == 0);
+}
+
 TEST_CASE("static mesh ground of two big triangles per face: box corners and spheres meet its triangles") {
     // A closed slab mesh 20 x 1 x 20 m (12 triangles), top face at y = 0: no mesh vertex lies under the bodies.
     Shape3 slab = boxMesh(Vec3(-10, -1, -10), Vec3(10, 0, 10));
