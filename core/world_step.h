@@ -1,15 +1,15 @@
 // core/world_step.h — the world step of DESIGN.md written once for both dimensions: World2 and World3 differ only
-// in geometry (broadphase, narrowphase) and body math (rotation, inertia), which they supply through a small hooks
-// object; everything between the narrowphase and the events is here.
+// in geometry (shapes, narrowphase) and body math (rotation, inertia), which they supply through a small hooks
+// object; everything else of the step is here.
 //
 // Owns: the dimension-free state and scratch of a step — the warm-start cache and the touching pairs (both part
 // of a world's hashed state), the island-local body numbering, the per-body position velocities of bounce
 // islands, the Lemke workspace and the last step's contacts and statistics.
-// The step: gravity into velocities; the world's findContacts hook (broadphase, narrowphase); islands by union-find (core/island); per awake
-// island one Coulomb-pyramid LCP (core/contact_resolver, eq. (19)/(20) plus friction), warm-started from the
-// previous step's basis matched through feature ids, with the frictionless LCP as fallback; a second, position-only
-// solve for islands with a bounce at the time of impact; integration through the world's hook; sleeping;
-// begin/end touch events.
+// The step: gravity into velocities; broadphase proxies with their speculative reach and the world's narrowphase;
+// islands by union-find (core/island); per awake island one Coulomb-pyramid LCP (core/contact_resolver,
+// eq. (19)/(20) plus friction), warm-started from the previous step's basis matched through feature ids, with the
+// frictionless LCP as fallback; a second, position-only solve for islands with a bounce at the time of impact;
+// integration through the world's hook; sleeping; begin/end touch events.
 // Invariants: every loop runs in dense body, island or contact order; no unordered containers; the cache comes
 // out sorted by key; localIndex is all -1 between islands; move is reset every step and never hashed.
 #pragma once
@@ -67,10 +67,10 @@ struct StepStats {
 ///   narrowphase(shapeA, xfA, shapeB, xfB, distance, stats)
 ///                                  the manifold of points with separation < distance: count, points[k] with
 ///                                  point, separation and feature id; normalOf(manifold, k) its normal
-/// and the shapes (cold record `shapes`, each with friction and restitution) must have computeAabb(shape, xf)
-/// (an Aabb with lower/upper) and findPairs(boxes, inactive) (the broadphase) found by argument lookup.
 ///   worldInvInertia(state, info)   world-frame inverse inertia of a dynamic body
 ///   integrate(dense, v, w, dt)     moves a body by velocities v, w over dt (centre, rotation, origin)
+/// and the shapes (cold record `shapes`, each with friction and restitution) must have computeAabb(shape, xf)
+/// (an Aabb with lower/upper) and findPairs(boxes, inactive) (the broadphase) found by argument lookup.
 template <class D>
 class WorldStep {
 public:
@@ -270,10 +270,9 @@ void WorldStep<D>::solveIsland(H& hooks, const std::vector<int>& bodies, const s
         if (bounces) {
             node.bias = 0.0;
             moveBias = std::min(def.maxCorrectionSpeed, -(1.0 + c.restitution) * sep / dt);
-            split = split || (H::kBounceAtImpact && moveBias != 0.0);  // touching at the step's start (the
-                                                                        // cradle): one solve does both
+            split = split || moveBias != 0.0;  // touching at the step's start (the cradle): one solve does both
         } else if (sep > 0.0) {
-            if (approachesFast && H::kBounceAtImpact) node.restitution = 0.0;
+            if (approachesFast) node.restitution = 0.0;
             node.bias = -sep / dt;
             moveBias = node.bias;
         } else {
@@ -393,8 +392,10 @@ void WorldStep<D>::run(H& hooks) {
         bool anyAwake = false;
         for (int d : ibodies) anyAwake = anyAwake || cold[std::size_t(d)].awake;
         if (!anyAwake) {  // a sleeping island keeps its warm-start data
-            for (int ci : icontacts)
-                if (const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(ci)]))) newCache.push_back(*hit);
+            for (int ci : icontacts) {
+                const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(ci)]));
+                if (hit) newCache.push_back(*hit);
+            }
             continue;
         }
         ++mStats.awakeIslands;
@@ -405,8 +406,10 @@ void WorldStep<D>::run(H& hooks) {
             auto& s = hot[std::size_t(d)];
             auto& info = cold[std::size_t(d)];
             const Move& move = mMove[std::size_t(d)];
-            hooks.integrate(d, move.set ? move.velocity : s.velocity, move.set ? move.angularVelocity : s.angularVelocity,
-                            dt);
+            if (move.set)
+                hooks.integrate(d, move.velocity, move.angularVelocity, dt);
+            else
+                hooks.integrate(d, s.velocity, s.angularVelocity, dt);
             const bool slow = D::dot(s.velocity, s.velocity) <= def.linearSleepTolerance * def.linearSleepTolerance &&
                               D::angWithin(s.angularVelocity, def.angularSleepTolerance);
             info.sleepTime = slow ? info.sleepTime + dt : 0.0;

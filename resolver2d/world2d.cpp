@@ -127,7 +127,6 @@ std::vector<BodyId> World2::bodyIds() const {
 /// What the shared step (core/world_step.h) needs of the 2D world: its bodies and settings, the narrowphase, and
 /// the planar body math.
 struct World2::Hooks {
-    static constexpr bool kBounceAtImpact = true;
     World2& world;
 
     BodyStore<BodyState2, BodyInfo2>& bodies() { return world.mBodies; }

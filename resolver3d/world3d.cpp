@@ -128,7 +128,6 @@ std::vector<BodyId> World3::bodyIds() const {
 /// What the shared step (core/world_step.h) needs of the 3D world: its bodies and settings, the narrowphase
 /// (meshes through sphere trees), and the body math of quaternions and inertia tensors.
 struct World3::Hooks {
-    static constexpr bool kBounceAtImpact = false;
     World3& world;
 
     BodyStore<BodyState3, BodyInfo3>& bodies() { return world.mBodies; }
