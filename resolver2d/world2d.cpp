@@ -78,15 +78,9 @@ bool World2::destroyBody(BodyId id) {
     return true;
 }
 
-const BodyState2* World2::state(BodyId id) const {
-    const int d = mBodies.denseIndex(id);
-    return d < 0 ? nullptr : &mBodies.hotArray()[std::size_t(d)];
-}
+const BodyState2* World2::state(BodyId id) const { return mBodies.findHot(id); }
 
-const BodyInfo2* World2::info(BodyId id) const {
-    const int d = mBodies.denseIndex(id);
-    return d < 0 ? nullptr : &mBodies.coldArray()[std::size_t(d)];
-}
+const BodyInfo2* World2::info(BodyId id) const { return mBodies.findCold(id); }
 
 double World2::angle(BodyId id) const {
     const BodyState2* s = state(id);
@@ -118,11 +112,7 @@ bool World2::applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint) {
     return true;
 }
 
-std::vector<BodyId> World2::bodyIds() const {
-    std::vector<BodyId> ids;
-    for (int d = 0; d < mBodies.size(); ++d) ids.push_back(mBodies.idAt(d));
-    return ids;
-}
+std::vector<BodyId> World2::bodyIds() const { return mBodies.ids(); }
 
 /// What the shared step (core/world_step.h) needs of the 2D world: its bodies and settings, the narrowphase, and
 /// the planar body math.

@@ -78,15 +78,9 @@ bool World3::destroyBody(BodyId id) {
     return true;
 }
 
-const BodyState3* World3::state(BodyId id) const {
-    const int d = mBodies.denseIndex(id);
-    return d < 0 ? nullptr : &mBodies.hotArray()[std::size_t(d)];
-}
+const BodyState3* World3::state(BodyId id) const { return mBodies.findHot(id); }
 
-const BodyInfo3* World3::info(BodyId id) const {
-    const int d = mBodies.denseIndex(id);
-    return d < 0 ? nullptr : &mBodies.coldArray()[std::size_t(d)];
-}
+const BodyInfo3* World3::info(BodyId id) const { return mBodies.findCold(id); }
 
 Transform3 World3::transform(BodyId id) const {
     const BodyState3* s = state(id);
@@ -119,11 +113,7 @@ bool World3::applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint
     return true;
 }
 
-std::vector<BodyId> World3::bodyIds() const {
-    std::vector<BodyId> ids;
-    for (int d = 0; d < mBodies.size(); ++d) ids.push_back(mBodies.idAt(d));
-    return ids;
-}
+std::vector<BodyId> World3::bodyIds() const { return mBodies.ids(); }
 
 /// What the shared step (core/world_step.h) needs of the 3D world: its bodies and settings, the narrowphase
 /// (meshes through sphere trees), and the body math of quaternions and inertia tensors.
