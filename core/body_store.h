@@ -113,6 +113,24 @@ public:
         return BodyId{slot + 1u, mSlots[slot].generation};
     }
 
+    /// Hot record of a live body; nullptr when id is null or stale.
+    const Hot* findHot(BodyId id) const {
+        const int d = denseIndex(id);
+        return d < 0 ? nullptr : &mHot[std::size_t(d)];
+    }
+    /// Cold record of a live body; nullptr when id is null or stale.
+    const Cold* findCold(BodyId id) const {
+        const int d = denseIndex(id);
+        return d < 0 ? nullptr : &mCold[std::size_t(d)];
+    }
+    /// Handles of all live bodies, (size()), in dense order.
+    std::vector<BodyId> ids() const {
+        std::vector<BodyId> out;
+        out.reserve(mHot.size());
+        for (int d = 0; d < size(); ++d) out.push_back(idAt(d));
+        return out;
+    }
+
     /// Number of live bodies (the length of every dense array).
     int size() const { return int(mHot.size()); }
     /// Maximum number of live bodies.

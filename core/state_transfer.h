@@ -6,6 +6,7 @@
 #pragma once
 
 #include "state_io.h"
+#include "step_support.h"
 
 #include <cmath>
 #include <cstring>
@@ -270,7 +271,7 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     }
 }
 
-/// One warm-start cache entry (World2::CacheEntry or ContactKey: the same fields).
+/// One warm-start cache entry.
 template <class Io, class E>
 void cacheEntry(Io& io, E& e) {
     io.u32("slotA", e.slotA);
@@ -279,6 +280,25 @@ void cacheEntry(Io& io, E& e) {
     io.u16("shapeB", e.shapeB);
     io.u32("feature", e.feature);
     io.u32("basicMask", e.basicMask);
+}
+
+/// The state of core/world_step.h: the warm-start cache (WarmStartCache) and the touching pairs (TouchPairs), both
+/// sorted (checked when reading).
+template <class Io, class Cache, class Pairs>
+void stepState(Io& io, Cache& cache, Pairs& touching) {
+    if constexpr (Io::kReading) {
+        std::vector<ContactKey> entries;
+        sequence(io, "cache", entries, 20, [&](auto& e) { cacheEntry(io, e); });
+        requireSorted(io, entries, "warm-start cache entries");
+        if (io.ok()) cache.replace(entries);
+    } else {
+        sequence(io, "cache", cache.entries(), 20, [&](auto& e) { cacheEntry(io, e); });
+    }
+    sequence(io, "touching", touching, 16, [&](auto& pair) {
+        io.u64("a", pair.first);
+        io.u64("b", pair.second);
+    });
+    requireSorted(io, touching, "touching pairs");
 }
 
 /// The bytes a state walk writes (walk(ByteSink&)).

@@ -2,12 +2,13 @@
 // mapping between a friction LCP's basis and per-contact bit masks, and begin/end touch events. (World3's state
 // hash and snapshots are in resolver3d/world3d_state.cpp, on core/state_transfer.h.)
 //
-// Owns no world state; World3 uses it (World2 has the same logic inline and can move onto it).
+// Owns no world state; core/world_step.h (the step of World2 and World3) uses it.
 // Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key.
 #pragma once
 
 #include "body_store.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -22,17 +23,31 @@ struct ContactKey {
     std::uint32_t feature = 0;
     std::uint32_t basicMask = 0;
     /// Order by (slotA, slotB, shapeA, shapeB, feature); the mask is not part of the key.
-    bool operator<(const ContactKey& o) const;
-    bool sameKey(const ContactKey& o) const;
+    bool operator<(const ContactKey& o) const {
+        if (slotA != o.slotA) return slotA < o.slotA;
+        if (slotB != o.slotB) return slotB < o.slotB;
+        if (shapeA != o.shapeA) return shapeA < o.shapeA;
+        if (shapeB != o.shapeB) return shapeB < o.shapeB;
+        return feature < o.feature;
+    }
+    bool sameKey(const ContactKey& o) const {
+        return slotA == o.slotA && slotB == o.slotB && shapeA == o.shapeA && shapeB == o.shapeB && feature == o.feature;
+    }
 };
 
 /// Previous-step contacts, sorted by key.
 class WarmStartCache {
 public:
-    /// The entry with the same key, or nullptr.
-    const ContactKey* find(const ContactKey& key) const;
+    /// The entry with the same key, or nullptr. (Inline: the step looks up every contact.)
+    const ContactKey* find(const ContactKey& key) const {
+        const auto it = std::lower_bound(mEntries.begin(), mEntries.end(), key);
+        return it != mEntries.end() && it->sameKey(key) ? &*it : nullptr;
+    }
     /// Replaces the contents with `entries` (sorted here).
     void replace(std::vector<ContactKey>& entries);
+    /// Drops the entries of body slot `slot1` (BodyId::index1), keeping the order of the rest. A destroyed body's
+    /// entries must go: they are keyed by slot, and a body created later in the slot would inherit them.
+    void forgetSlot(std::uint32_t slot1);
     const std::vector<ContactKey>& entries() const { return mEntries; }
 
 private:
@@ -42,13 +57,31 @@ private:
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).
 /// Appends the LCP indices that `mask` marks basic for contact ci to `outBasis`.
-void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vector<int>& outBasis);
+inline void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vector<int>& outBasis) {
+    if (mask & 1u) outBasis.push_back(ci);
+    for (int m = 0; m < k; ++m)
+        if (mask & (2u << m)) outBasis.push_back(nc + ci * k + m);
+    if (mask & (2u << k)) outBasis.push_back(nc + nc * k + ci);
+}
 /// Sets the mask bits of the contacts [first, first + nc) of `entries` from a solved basis. `friction` false: the
 /// basis belongs to the frictionless LCP (indices are contacts).
-void storeBasis(const std::vector<int>& basis, int nc, int k, bool friction, ContactKey* first);
+inline void storeBasis(const std::vector<int>& basis, int nc, int k, bool friction, ContactKey* first) {
+    for (int idx : basis) {
+        std::uint32_t bit = 1u;
+        int ci = idx;
+        if (friction && idx >= nc + nc * k) {
+            ci = idx - nc - nc * k;
+            bit = 2u << k;
+        } else if (friction && idx >= nc) {
+            ci = (idx - nc) / k;
+            bit = 2u << ((idx - nc) % k);
+        }
+        if (ci >= 0 && ci < nc) first[ci].basicMask |= bit;
+    }
+}
 
 /// Key of a body id for touch pairs: generation in the high half, slot + 1 in the low half.
-std::uint64_t touchKey(BodyId id);
+inline std::uint64_t touchKey(BodyId id) { return (std::uint64_t(id.generation) << 32) | id.index1; }
 /// Body id of a touchKey.
 BodyId touchId(std::uint64_t key);
 

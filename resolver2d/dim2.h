@@ -50,6 +50,14 @@ struct Dim2 {
     static Ang angAdd(const Ang& a, const Ang& b) { return a + b; }
     static bool finite(const Vec& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
     static bool angFinite(const Ang& a) { return std::isfinite(a); }
+    /// |omega| <= tol (a world's sleep test).
+    static bool angWithin(const Ang& a, double tol) { return std::fabs(a) <= tol; }
+    /// |omega| (rad/s).
+    static double angNorm(const Ang& a) { return std::fabs(a); }
+    /// (s, s).
+    static Vec uniform(double s) { return {s, s}; }
+    /// The vector of kDim components at p (e.g. one contact's tangent impulse in Resolution::tangentImpulses).
+    static Vec fromComponents(const double* p) { return {p[0], p[1]}; }
     static bool invInertiaValid(const InvInertia& i) { return std::isfinite(i) && i >= 0.0; }
     static bool invInertiaZero(const InvInertia& i) { return i == 0.0; }
     /// The k friction directions of a 2D contact: always +t and -t with t = perp(n) (the 2D pyramid is exact).

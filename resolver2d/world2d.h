@@ -16,6 +16,7 @@
 #include "lcp.h"
 #include "shapes2d.h"
 #include "state_io.h"
+#include "world_step.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -90,21 +91,10 @@ struct ContactPoint2 {
 };
 
 /// Two bodies started (begin) or stopped (end) touching this step.
-struct ContactEvent2 {
-    BodyId a, b;
-};
+using ContactEvent2 = TouchEvent;
 
-/// What the last step did.
-struct StepStats2 {
-    int islands = 0, awakeIslands = 0, contacts = 0;
-    int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
-    std::uint64_t work = 0;
-    double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
-    int failedIslands = 0;            ///< islands whose friction LCP did not solve (the frictionless LCP was used)
-    int approximateIslands = 0;       ///< islands whose answer was accepted by WorldDef2::acceptResidual
-    double maxScaledResidual = 0.0;   ///< largest scaled residual (residual / max(|A|, |b|)) of any island's answer
-    double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
-};
+/// What the last step did (core/world_step.h; `candidates` stays 0 in 2D).
+using StepStats2 = StepStats;
 
 class World2 {
 public:
@@ -137,9 +127,9 @@ public:
     /// Body ids in dense order (the order every loop of the step uses).
     std::vector<BodyId> bodyIds() const;
     const std::vector<ContactPoint2>& contacts() const { return mContactPoints; }
-    const std::vector<ContactEvent2>& beginEvents() const { return mBegin; }
-    const std::vector<ContactEvent2>& endEvents() const { return mEnd; }
-    const StepStats2& stats() const { return mStats; }
+    const std::vector<ContactEvent2>& beginEvents() const { return mStep.beginEvents(); }
+    const std::vector<ContactEvent2>& endEvents() const { return mStep.endEvents(); }
+    const StepStats2& stats() const { return mStep.stats(); }
     std::uint64_t stepCount() const { return mStepCount; }
 
     /// 64-bit hash (XXH3) of the canonical serialisation of everything that affects the future: settings, step
@@ -157,22 +147,8 @@ public:
     /// The canonical state as named fields (same order and values as the hash), for diffs and desync reports.
     std::vector<StateField> stateFields() const;
 
-    /// One entry of the warm-start cache: a contact (body slots, shape indices, feature id) and which of its LCP
-    /// unknowns were basic at the end of the previous step (bit 0: normal, bits 1-2: tangents, bit 3: slack).
-    struct CacheEntry {
-        std::uint32_t slotA, slotB;
-        std::uint16_t shapeA, shapeB;
-        std::uint32_t feature;
-        std::uint32_t basicMask;
-        bool operator<(const CacheEntry& o) const;
-        bool sameKey(const CacheEntry& o) const;
-    };
-
 private:
-    struct Contact;
-    void collideAll(std::vector<Contact>& out) const;
-    void solveIsland(const std::vector<int>& bodies, const std::vector<int>& contactIdx, std::vector<Contact>& contacts,
-                     std::vector<CacheEntry>& newCache);
+    struct Hooks;  // what core/world_step.h needs of this world (world2d.cpp)
     void updateBodyCenter(BodyState2& s, const BodyInfo2& info) const;
     // The one canonical serialiser (world2d_state.cpp): writes the state of a const World2 into a sink, or reads it
     // into a non-const one.
@@ -181,21 +157,8 @@ private:
 
     WorldDef2 mDef;
     BodyStore<BodyState2, BodyInfo2> mBodies;
-    LemkeSolver mSolver;
-    std::vector<CacheEntry> mCache;          // sorted by key
+    WorldStep<Dim2> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
     std::vector<ContactPoint2> mContactPoints;
-    std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouching;  // sorted (slot pairs) touching last step
-    std::vector<ContactEvent2> mBegin, mEnd;
-    std::vector<int> mLocalIndex;            // dense body -> index in the island being solved (-1 outside)
-    /// How a body's position moves this step when it differs from its velocity (an island with a bounce, see
-    /// solveIsland): dense index -> velocities to integrate positions with. Reset every step; never hashed.
-    struct Move {
-        Vec2 velocity;
-        double angularVelocity = 0.0;
-        bool set = false;
-    };
-    std::vector<Move> mMove;
-    StepStats2 mStats;
     std::uint64_t mStepCount = 0;
 };
 

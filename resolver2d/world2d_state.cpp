@@ -26,7 +26,7 @@ static_assert(sizeof(WorldDef2) == 160, "WorldDef2 changed: serialise the new fi
 static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field in transferState()");
-static_assert(sizeof(World2::CacheEntry) == 20, "CacheEntry changed: serialise the new field in transferState()");
+static_assert(sizeof(ContactKey) == 20, "ContactKey changed: serialise the new field in transferState()");
 
 namespace {
 
@@ -120,13 +120,7 @@ void World2::transferState(Io& io, Self& world) {
 
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold); });
 
-    sequence(io, "cache", world.mCache, 20, [&](auto& e) { cacheEntry(io, e); });
-    sequence(io, "touching", world.mTouching, 16, [&](auto& pair) {
-        io.u64("a", pair.first);
-        io.u64("b", pair.second);
-    });
-    requireSorted(io, world.mCache, "warm-start cache entries");
-    requireSorted(io, world.mTouching, "touching pairs");
+    stepState(io, world.mStep.cache, world.mStep.touching);
 }
 
 std::uint64_t World2::stateHash() const {

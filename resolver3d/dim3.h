@@ -44,6 +44,14 @@ struct Dim3 {
     static Ang angAdd(const Ang& a, const Ang& b) { return add(a, b); }
     static bool finite(const Vec& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
     static bool angFinite(const Ang& a) { return finite(a); }
+    /// |omega| <= tol (a world's sleep test), compared in squares.
+    static bool angWithin(const Ang& a, double tol) { return dot(a, a) <= tol * tol; }
+    /// |omega| (rad/s).
+    static double angNorm(const Ang& a) { return std::sqrt(dot(a, a)); }
+    /// (s, s, s).
+    static Vec uniform(double s) { return Vec3(s, s, s); }
+    /// The vector of kDim components at p (e.g. one contact's tangent impulse in Resolution::tangentImpulses).
+    static Vec fromComponents(const double* p) { return Vec3(p[0], p[1], p[2]); }
     static bool invInertiaValid(const InvInertia& m) {
         for (int i = 0; i < 3; ++i) {
             for (int j = 0; j < 3; ++j) {

@@ -17,6 +17,7 @@
 #include "shapes3d.h"
 #include "state_io.h"
 #include "step_support.h"
+#include "world_step.h"
 
 #include <cstdint>
 #include <string>
@@ -91,17 +92,8 @@ struct ContactPoint3 {
 /// Two bodies started (begin) or stopped (end) touching this step.
 using ContactEvent3 = TouchEvent;
 
-/// What the last step did.
-struct StepStats3 {
-    int islands = 0, awakeIslands = 0, contacts = 0;
-    int candidates = 0;               ///< narrowphase points before the reduction to <= 4 per pair
-    int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
-    std::uint64_t work = 0;
-    double maxResidual = 0.0;         ///< largest scaled complementarity residual of any island
-    int failedIslands = 0;            ///< islands whose friction LCP did not solve (the frictionless LCP was used)
-    int unsolvedIslands = 0;          ///< islands that got no impulse at all (both LCPs failed)
-    double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
-};
+/// What the last step did (core/world_step.h).
+using StepStats3 = StepStats;
 
 class World3 {
 public:
@@ -110,7 +102,8 @@ public:
     /// Creates a body with its shapes (body frame). Returns a null id and a message when the definition is invalid
     /// (non-finite values, a dynamic body without mass, a plane on a moving body, capacity); the world is unchanged.
     BodyId createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error = nullptr);
-    /// Removes a body; false for a stale or null id.
+    /// Removes a body and its warm-start entries; false for a stale or null id. Its contacts end (end events next
+    /// step).
     bool destroyBody(BodyId id);
 
     /// Advances by one step of 1/hz seconds.
@@ -133,9 +126,9 @@ public:
 
     std::vector<BodyId> bodyIds() const;
     const std::vector<ContactPoint3>& contacts() const { return mContactPoints; }
-    const std::vector<ContactEvent3>& beginEvents() const { return mBegin; }
-    const std::vector<ContactEvent3>& endEvents() const { return mEnd; }
-    const StepStats3& stats() const { return mStats; }
+    const std::vector<ContactEvent3>& beginEvents() const { return mStep.beginEvents(); }
+    const std::vector<ContactEvent3>& endEvents() const { return mStep.endEvents(); }
+    const StepStats3& stats() const { return mStep.stats(); }
     std::uint64_t stepCount() const { return mStepCount; }
 
     /// Applies an impulse (N s) at a world point: changes the linear and angular velocity and wakes the body.
@@ -158,27 +151,17 @@ public:
     std::vector<StateField> stateFields() const;
 
 private:
-    struct Contact;
-    void collideAll(std::vector<Contact>& out);
-    void solveIsland(const std::vector<int>& bodies, const std::vector<int>& contactIdx, std::vector<Contact>& contacts,
-                     std::vector<ContactKey>& newCache);
-    ContactKey keyOf(const Contact& c) const;
-    void integrate(int dense, double dt);
+    struct Hooks;  // what core/world_step.h needs of this world (world3d.cpp)
     /// The one canonical walk over the state (resolver3d/world3d_state.cpp); Self is World3 or const World3.
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
 
     WorldDef3 mDef;
     BodyStore<BodyState3, BodyInfo3> mBodies;
-    LemkeSolver mSolver;
-    WarmStartCache mCache;
+    WorldStep<Dim3> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
     std::vector<ContactPoint3> mContactPoints;
-    TouchPairs mTouching;  // body pairs touching last step
-    std::vector<ContactEvent3> mBegin, mEnd;
-    std::vector<int> mLocalIndex;  // dense body -> index in the island being solved (-1 outside)
     bool mCapture = false;
     std::vector<ManifoldPoint3> mCandidates;
-    StepStats3 mStats;
     std::uint64_t mStepCount = 0;
 };
 

@@ -232,19 +232,7 @@ void World3::transferState(Io& io, Self& world) {
     SharedGeometry shared;
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold, shared); });
 
-    if constexpr (Io::kReading) {
-        std::vector<ContactKey> entries;
-        sequence(io, "cache", entries, 20, [&](auto& e) { cacheEntry(io, e); });
-        requireSorted(io, entries, "warm-start cache entries");
-        if (io.ok()) world.mCache.replace(entries);
-    } else {
-        sequence(io, "cache", world.mCache.entries(), 20, [&](auto& e) { cacheEntry(io, e); });
-    }
-    sequence(io, "touching", world.mTouching, 16, [&](auto& pair) {
-        io.u64("a", pair.first);
-        io.u64("b", pair.second);
-    });
-    requireSorted(io, world.mTouching, "touching pairs");
+    stepState(io, world.mStep.cache, world.mStep.touching);
 }
 
 std::uint64_t World3::stateHash() const {

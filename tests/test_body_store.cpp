@@ -137,6 +137,24 @@ TEST_CASE("stale ids are rejected after their slot is reused") {
     CHECK(st.cold(st.denseIndex(a2)).tag == 2);
 }
 
+TEST_CASE("records and ids by handle: null for stale ids, ids() in dense order after a swap-remove") {
+    Store st;
+    const BodyId a = st.create(Hot{1.0}, Cold{1});
+    const BodyId b = st.create(Hot{2.0}, Cold{2});
+    const BodyId c = st.create(Hot{3.0}, Cold{3});
+    REQUIRE(st.destroy(a));  // c moves to dense index 0
+    CHECK(st.findHot(a) == nullptr);
+    CHECK(st.findCold(a) == nullptr);
+    CHECK(st.findHot(BodyId::null()) == nullptr);
+    REQUIRE(st.findHot(c) != nullptr);
+    CHECK(st.findHot(c)->x == 3.0);
+    CHECK(st.findCold(b)->tag == 2);
+    const std::vector<BodyId> ids = st.ids();
+    REQUIRE(ids.size() == 2);
+    CHECK(ids[0] == c);
+    CHECK(ids[1] == b);
+}
+
 TEST_CASE("freed slots are reused last-in-first-out") {
     Store st;
     std::vector<BodyId> ids;

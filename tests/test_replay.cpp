@@ -41,8 +41,8 @@ const Golden kGolden[] = {
     {"mixed_pile", 300, 0x7c5876e68adba896ull, 0x32a1dc8b6a2e27d2ull},
     {"cradle", 120, 0x547618ea65506e6eull, 0xc593de536b613679ull},
     {"box_heap3d", 180, 0xa985ec030a2066e6ull, 0xdd1c2646b1f205cfull},
-    {"spheres3d", 180, 0x263e097f7ecffe9eull, 0x2e0c97a71c571120ull},
-    {"bunnies3d", 240, 0xbaf7985a34ca3730ull, 0xcfe948473989e17full},
+    {"spheres3d", 180, 0x299fc5d46c75bdf6ull, 0x5a75023a682cd284ull},
+    {"bunnies3d", 240, 0xcfd2808a01bf4fd7ull, 0x43e99243c82ea962ull},
 };
 // ==================================================================================================================
 

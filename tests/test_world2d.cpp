@@ -85,8 +85,8 @@ TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form")
 
 TEST_CASE("restitution row: rebound apex is e^2 h within 3 %") {
     // Balls of radius 0.5 dropped from y = 5 (fall height h = 4.5) with e = k/6. The world bounces a contact at its
-    // time of impact inside the step (World2::solveIsland), so what remains is the semi-implicit Euler
-    // discretisation of the two flights: measured +0.6 % at e = 1 to +2.2 % at e = 1/6 (Box2D 2.4.1: +0.5 % to
+    // time of impact inside the step (WorldStep::solveIsland, core/world_step.h), so what remains is the
+    // semi-implicit Euler discretisation of the two flights: measured +0.6 % at e = 1 to +2.2 % at e = 1/6 (Box2D 2.4.1: +0.5 % to
     // +1.2 %; tests/test_box2d_validation.cpp). Before that fix the apex was up to (1 + e) v dt high (+64 % at
     // e = 1/6). e = 0 must not bounce at all.
     const auto scene = scenes::readSceneFile(scenes::sceneDir() + "/restitution_row.json");

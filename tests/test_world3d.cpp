@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 using namespace unison;
@@ -144,12 +145,17 @@ TEST_CASE("tilted cube landing on one corner: the single-point closed form") {
     CHECK(world.contacts()[0].normalImpulse == doctest::Approx(f).epsilon(1e-9));
 }
 
-TEST_CASE("sphere restitution: v+ = e v at impact, and the rebound apex is e^2 h within one step's allowance") {
-    for (double e : {0.0, 0.5, 0.9}) {
+TEST_CASE("sphere restitution: the rebound apex is e^2 h within 3 % (the 2D restitution row's tolerance)") {
+    // Spheres of radius 0.5 dropped from y = 5 (fall height h = 4.5) onto a plane with e = k/6, as the 2D
+    // restitution row. The world bounces a contact at its time of impact inside the step (core/world_step.h), so
+    // what remains is the semi-implicit Euler discretisation of the two flights. Before 3D bounced at the time of
+    // impact, the apex was up to (1 + e) v dt high (+3.7 % at e = 1, +53 % at e = 1/6). e = 0 must not bounce.
+    const double h = 4.5, r = 0.5;
+    for (int k = 0; k <= 6; ++k) {
+        const double e = k / 6.0;
         CAPTURE(e);
         World3 world;
         addStatic(world, groundPlane(0.6, e));
-        const double h = 4.5, r = 0.5, dt = 1.0 / 60.0, vImpact = std::sqrt(2.0 * 10.0 * h);
         const BodyId id = addDynamic(world, ballShape(r, 0.6, e), Vec3(0, r + h, 0));
         double prevVy = 0.0, apex = -1.0;
         int bounces = 0;
@@ -161,14 +167,57 @@ TEST_CASE("sphere restitution: v+ = e v at impact, and the rebound apex is e^2 h
             prevVy = s.velocity.y();
             CHECK(s.angularVelocity.norm() < 1e-12);
         }
-        if (e == 0.0) {
+        if (k == 0) {
             CHECK(bounces == 0);
             CHECK(world.state(id)->position.y() == doctest::Approx(r).epsilon(0.01));
         } else {
             const double rise = apex - r;
-            CHECK(rise >= e * e * h - 0.02 * h);
-            CHECK(rise <= e * e * h + (1.0 + e) * vImpact * dt);
+            MESSAGE("e = " << e << ": apex " << rise << " m, e^2 h = " << e * e * h << " m ("
+                           << 100.0 * (rise - e * e * h) / (e * e * h) << " %)");
+            CHECK(std::fabs(rise - e * e * h) <= 0.03 * e * e * h);
         }
+    }
+}
+
+// Energy (J) of a body of the world: kinetic (linear and angular) plus potential in g = 10 m/s^2 along -y.
+double energy(const World3& world, BodyId id) {
+    const BodyState3& s = *world.state(id);
+    const BodyInfo3& info = *world.info(id);
+    const Mat3 r = toMatrix(s.rotation);
+    const Vec3 wb = r.transpose() * s.angularVelocity;  // body axes
+    return 0.5 * info.mass * s.velocity.squaredNorm() + 0.5 * wb.dot(info.inertia * wb) +
+           10.0 * info.mass * s.center.y();
+}
+
+TEST_CASE("e = 1: a cube landing flat and a sphere keep their energy from bounce to bounce") {
+    // As the 2D test of a box with e = 1: a 1 m cube (mass 1) dropped flat from y = 5 onto a plane bounces on its 4
+    // corners together, and a sphere of radius 0.5 (mass pi/6) from y = 5. The energy at every apex must stay
+    // within 1 % of the energy they started with (the 1 % covers the semi-implicit Euler energy of a step-end
+    // sample, about m g^2 dt^2 n / 2), so it does not grow from bounce to bounce.
+    for (int shape = 0; shape < 2; ++shape) {
+        CAPTURE(shape);
+        World3 world;
+        addStatic(world, groundPlane(0.6, 1.0));
+        const BodyId id = shape == 0 ? addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5), 0.6, 1.0), Vec3(0, 5, 0))
+                                     : addDynamic(world, ballShape(0.5, 0.6, 1.0), Vec3(0, 5, 0));
+        const double e0 = energy(world, id);
+        int apexes = 0;
+        double prevVy = 0.0, worst = 0.0;
+        for (int i = 0; i < 600; ++i) {
+            world.step();
+            const BodyState3& s = *world.state(id);
+            if (prevVy > 0.0 && s.velocity.y() <= 0.0) {
+                const double e = energy(world, id);
+                CAPTURE(apexes);
+                CHECK(std::fabs(e - e0) <= 0.01 * e0);
+                worst = std::max(worst, std::fabs(e - e0) / e0);
+                ++apexes;
+            }
+            prevVy = s.velocity.y();
+        }
+        const std::string name = shape == 0 ? "cube" : "sphere";
+        MESSAGE(name << ": " << apexes << " apexes, largest energy change " << 100.0 * worst << " %");
+        CHECK(apexes >= 5);  // one flight every 1.9 s
     }
 }
 
@@ -289,7 +338,7 @@ TEST_CASE("determinism: two runs give the same hash every step; the golden hash 
         REQUIRE(a.stateHash() == b.stateHash());
     }
     CHECK(a.stats().failedIslands == 0);
-    CHECK(a.stateHash() == 0x556e3910a3bd2137ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
+    CHECK(a.stateHash() == 0x1db0a4cb1ca94162ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
 }
 
 TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide off both ramps and rest on the ground") {
@@ -321,7 +370,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
         CHECK(s.center.y() > 0.05);
         CHECK(s.velocity.norm() < 0.05);
     }
-    CHECK(loaded.world->stateHash() == 0x9cc2af7b320c03acull);  // golden: the mesh path too (gcc 12 -O2; see above)
+    CHECK(loaded.world->stateHash() == 0xcfa9c8f00d45ba35ull);  // golden: the mesh path too (gcc 12 -O2; see above)
 }
 
 TEST_CASE("events: a bouncing ball begins touching the ground once and ends once; bad velocities are refused") {
@@ -347,6 +396,20 @@ TEST_CASE("events: a bouncing ball begins touching the ground once and ends once
     CHECK_FALSE(world.setVelocity(ball, Vec3(NAN, 0, 0), Vec3::Zero()));
     CHECK_FALSE(world.setVelocity(ground, Vec3(1, 0, 0), Vec3::Zero()));
     CHECK(world.stateHash() == before);
+}
+
+TEST_CASE("a destroyed body's warm-start entries are not inherited by the next body in its slot") {
+    World3 world;
+    addStatic(world, groundPlane());
+    const BodyId box = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.5, 0));
+    for (int i = 0; i < 10; ++i) world.step();
+    REQUIRE(world.stats().warmStartedIslands == 1);
+    REQUIRE(world.destroyBody(box));
+    const BodyId again = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.5, 0));
+    REQUIRE(again.index1 == box.index1);  // LIFO reuse of the slot
+    world.step();
+    CHECK(world.stats().contacts > 0);
+    CHECK(world.stats().warmStartedIslands == 0);
 }
 
 TEST_CASE("static mesh ground of two big triangles per face: box corners and spheres meet its triangles") {
