@@ -462,6 +462,38 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         ++r.restarts;
         return r;
     };
+    // The block is complementary (z0 left, or a warm start needed no pivot at all): the answer with the true b,
+    // and the continuation when the perturbation it was found under leaves it short of the tolerance.
+    auto complementary = [&]() -> LcpResult {
+        assembleSolution();
+        if (result.status == LcpStatus::numerical_failure && perturbed) {
+            // The perturbed problem's basis is not exactly right for the true b: continue from it with a
+            // 10x smaller perturbation (still breaking ties), down to none below 1e-9. A continuation is a local
+            // repair: it never restarts and gets at most max(100, k / 2) pivots (a cycle or a longer path ends
+            // it, and this answer stands). Unbounded, it once cost a settled 20-row pyramid 3000 pivots (a cold
+            // restart included) to improve a residual of 3e-9.
+            LcpOptions exact = options;
+            exact.degeneracyPerturbation = options.degeneracyPerturbation > 1e-9 ? options.degeneracyPerturbation * 0.1 : 0.0;
+            exact.maxPivots = std::max(1, std::min(maxPivots - result.pivots, std::max(100, ws.m / 2)));
+            if (options.maxWork) exact.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
+            const std::vector<int> basis = result.basis;
+            exact.warmBasis = &basis;
+            LcpResult r = run(ws, b, exact, 0);
+            r.pivots += result.pivots;
+            r.work += result.work;
+            if (r.status != LcpStatus::solved && !(r.status == LcpStatus::numerical_failure && r.scaledResidual <= result.scaledResidual)) {
+                // The continuation did not do better (it can cycle on the ties the larger perturbation had
+                // separated): return this answer, marked numerical_failure with its residual, for the caller
+                // to judge.
+                result.pivots = r.pivots;
+                result.work = r.work;
+                result.restarts = r.restarts;
+                return result;
+            }
+            return r;
+        }
+        return result;
+    };
     // The entering variable: a column variable (z_e, or z0 = n) or a slack w_e leaving the block rows.
     int enterVar = n;      // z0 first
     bool enterIsColumn = true;
@@ -594,6 +626,13 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         }
         if (tied.empty()) {
             if (startStep) {
+                // No basic value is below zero: the warm basis is already complementary and feasible for the
+                // perturbed b (the perturbation lifted what the true b left a little short, e.g. a rocking box's
+                // tangential creep at the dead zone). Take it as found, as if z0 had left, rather than start cold.
+                bool feasible = true;
+                for (int q = 0; q < m && feasible; ++q) feasible = ws.zval[std::size_t(q)] >= -zeroY;
+                for (int i = 0; i < n && feasible; ++i) feasible = ws.posRow[std::size_t(i)] >= 0 || ws.wval[std::size_t(i)] >= -zeroW;
+                if (feasible && ws.posCol[std::size_t(n)] < 0) return complementary();
                 // The warm basis could not be repaired by z0 along this covering vector: start cold.
                 LcpOptions cold = options;
                 cold.warmBasis = nullptr;
@@ -723,36 +762,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         basisHash ^= basisKey(enterVar, !enterIsColumn) ^ basisKey(leave.isColumn ? leave.var : leave.pos, !leave.isColumn);
         if (!seenBases.insert(basisHash).second) return restart(false);
 
-        if (leave.isColumn && leave.var == n) {  // z0 left: complementary basis
-            assembleSolution();
-            if (result.status == LcpStatus::numerical_failure && perturbed) {
-                // The perturbed problem's basis is not exactly right for the true b: continue from it with a
-                // 10x smaller perturbation (still breaking ties), down to none below 1e-9. A continuation is a local
-                // repair: it never restarts and gets at most max(100, k / 2) pivots (a cycle or a longer path ends
-                // it, and this answer stands). Unbounded, it once cost a settled 20-row pyramid 3000 pivots (a cold
-                // restart included) to improve a residual of 3e-9.
-                LcpOptions exact = options;
-                exact.degeneracyPerturbation = options.degeneracyPerturbation > 1e-9 ? options.degeneracyPerturbation * 0.1 : 0.0;
-                exact.maxPivots = std::max(1, std::min(maxPivots - result.pivots, std::max(100, ws.m / 2)));
-                if (options.maxWork) exact.maxWork = options.maxWork > result.work ? options.maxWork - result.work : 1;
-                const std::vector<int> basis = result.basis;
-                exact.warmBasis = &basis;
-                LcpResult r = run(ws, b, exact, 0);
-                r.pivots += result.pivots;
-                r.work += result.work;
-                if (r.status != LcpStatus::solved && !(r.status == LcpStatus::numerical_failure && r.scaledResidual <= result.scaledResidual)) {
-                    // The continuation did not do better (it can cycle on the ties the larger perturbation had
-                    // separated): return this answer, marked numerical_failure with its residual, for the caller
-                    // to judge.
-                    result.pivots = r.pivots;
-                    result.work = r.work;
-                    result.restarts = r.restarts;
-                    return result;
-                }
-                return r;
-            }
-            return result;
-        }
+        if (leave.isColumn && leave.var == n) return complementary();  // z0 left: complementary basis
         // The complement of the leaving variable enters next.
         enterVar = leave.var;
         enterIsColumn = !leave.isColumn;

@@ -38,7 +38,7 @@ struct Golden {
 const Golden kGolden[] = {
     {"pyramid", 240, 0x3e32206539ae98bfull, 0x0ac980ddc3906becull},
     {"restitution_row", 240, 0x247bf1c32e2eaabeull, 0x28c52fe964f18ce4ull},
-    {"mixed_pile", 300, 0x7c5876e68adba896ull, 0x32a1dc8b6a2e27d2ull},
+    {"mixed_pile", 300, 0xeec7078df60765d9ull, 0x1af5a9ccebfd0edeull},
     {"cradle", 120, 0x547618ea65506e6eull, 0xc593de536b613679ull},
     {"box_heap3d", 180, 0xa985ec030a2066e6ull, 0xdd1c2646b1f205cfull},
     {"spheres3d", 180, 0x299fc5d46c75bdf6ull, 0x5a75023a682cd284ull},
