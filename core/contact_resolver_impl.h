@@ -437,11 +437,11 @@ Lcp assembleFrictionLcp(const std::vector<ResolverBody<D>>& bodies, const std::v
 namespace detail {
 
 // The rows of the friction LCP in compressed form: coupling rows (each tangent row ending with its slack column, the
-// largest index), then the slack rows [mu at the normal, -1 at each tangent]. With `keep` (Restricted), only the
-// columns j with keep[j] != 0 (see LemkeSolver::checkGuess; `coupling.keepColumns(keep)` must have been called). Either way maxAbs is the largest of the diagonal
-// entries, the friction coefficients and 1: computable from the diagonal alone, so the part and the whole carry
-// the same voucher, and equal to max |A_ij| up to rounding (the coupling block is a Gram matrix: |A_ij| <=
-// sqrt(A_ii A_jj)).
+// largest index), then the slack rows [mu at the normal, -1 at each tangent]. Restricted: only the columns j with
+// keep[j] != 0 (see LemkeSolver::checkGuess; `coupling.keepColumns(keep)` must have been called). Either way
+// maxAbs is the largest of the diagonal entries, the friction coefficients and 1: computable from the diagonal
+// alone, so the part and the whole carry the same voucher, and equal to max |A_ij| up to rounding (the coupling
+// block is a Gram matrix: |A_ij| <= sqrt(A_ii A_jj)).
 template <class D, bool Restricted>
 SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& coupling, const char* keep) {
     const FrictionLayout& layout = sys.layout;
