@@ -49,6 +49,19 @@ void subtractOuter(double* __restrict binv, std::size_t cap, int m, const double
     }
 }
 
+// Options a solve accepts (NaN fails every comparison, so it is out of range too).
+bool optionsInRange(const LcpOptions& o) {
+    return o.pivotTolerance >= 0.0 && o.pivotTolerance < 1.0 && o.residualTolerance >= 0.0 &&
+           o.degeneracyPerturbation >= 0.0 && o.degeneracyPerturbation <= 1e-2 && o.maxPivots >= 0;
+}
+
+// A warm basis as a set: ascending, without repeats.
+std::vector<int> sortedUnique(std::vector<int> v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+    return v;
+}
+
 // Zobrist keys of the basis: the hash of a basis is the XOR of the keys of its column variables (basic z's and z0)
 // and of its block rows (nonbasic w's), so one pivot updates it with two XORs.
 std::uint64_t basisKey(int index, bool isRow) {
@@ -210,17 +223,12 @@ LcpResult LemkeSolver::checkGuess(SparseLcp&& guessColumns, const LcpOptions& op
     LcpResult result;
     result.status = LcpStatus::pivot_limit;
     const int n = guessColumns.n;
-    const bool optionsValid = options.pivotTolerance >= 0.0 && options.pivotTolerance < 1.0 &&
-                              options.residualTolerance >= 0.0 && options.degeneracyPerturbation >= 0.0 &&
-                              options.degeneracyPerturbation <= 1e-2 && options.maxPivots >= 0;
     if (n <= 0 || guessColumns.b.size() != std::size_t(n) || !(guessColumns.maxAbs >= 0.0) || !options.warmBasis ||
-        options.warmBasis->empty() || !optionsValid) {  // solve() reports what is wrong
+        options.warmBasis->empty() || !optionsInRange(options)) {  // solve() reports what is wrong
         result.message = "checkGuess needs a guess and a vouched-for matrix";
         return result;
     }
-    std::vector<int> guess = *options.warmBasis;
-    std::sort(guess.begin(), guess.end());
-    guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
+    const std::vector<int> guess = sortedUnique(*options.warmBasis);
     if (guess.front() < 0 || guess.back() >= n) {
         result.message = "guess out of range";
         return result;
@@ -235,15 +243,9 @@ LcpResult LemkeSolver::checkGuess(SparseLcp&& guessColumns, const LcpOptions& op
     ws.bStore.swap(guessColumns.b);
     // The same preparation as run() up to its warm-start check.
     const double* b = ws.bStore.data();
-    ws.b = b;
-    ws.aMax = ws.aMaxA;
-    ws.bMax = 0.0;
-    for (int i = 0; i < n; ++i) {
-        if (!std::isfinite(b[i])) {
-            result.message = "b has a non-finite entry";
-            return result;
-        }
-        ws.bMax = std::max(ws.bMax, std::fabs(b[i]));
+    if (ws.loadB(b) >= 0) {
+        result.message = "b has a non-finite entry";
+        return result;
     }
     const double scale = std::max({ws.aMax, ws.bMax, kTiny});
     result.z.assign(std::size_t(n), 0.0);
@@ -259,19 +261,13 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     LcpResult result;
     const int n = ws.n;
     const std::size_t nn = std::size_t(n);
-    ws.b = b;
-    ws.aMax = ws.aMaxA;
-    ws.bMax = 0.0;
     ws.m = 0;
-    for (std::size_t i = 0; i < nn; ++i) {
-        if (!std::isfinite(b[i])) {
-            result.message = "b has a non-finite entry at " + std::to_string(i);
-            return result;
-        }
-        ws.bMax = std::max(ws.bMax, std::fabs(b[i]));
+    const int badB = ws.loadB(b);
+    if (badB >= 0) {
+        result.message = "b has a non-finite entry at " + std::to_string(badB);
+        return result;
     }
-    if (!(options.pivotTolerance >= 0.0 && options.pivotTolerance < 1.0) || !(options.residualTolerance >= 0.0) ||
-        !(options.degeneracyPerturbation >= 0.0 && options.degeneracyPerturbation <= 1e-2) || options.maxPivots < 0) {
+    if (!optionsInRange(options)) {
         result.message = "LCP options out of range: need 0 <= pivotTolerance < 1, residualTolerance >= 0, "
                          "0 <= degeneracyPerturbation <= 1e-2, maxPivots >= 0";
         return result;
@@ -297,9 +293,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     std::vector<int> guess;
     bool inRange = false;
     if (options.warmBasis && !options.warmBasis->empty()) {
-        guess = *options.warmBasis;
-        std::sort(guess.begin(), guess.end());
-        guess.erase(std::unique(guess.begin(), guess.end()), guess.end());
+        guess = sortedUnique(*options.warmBasis);
         inRange = guess.front() >= 0 && guess.back() < n;
         if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
     }

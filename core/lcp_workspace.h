@@ -185,6 +185,18 @@ struct LemkeSolver::Workspace {
 
     double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
 
+    /// Takes b for a solve: sets aMax from A's and bMax = max |b_i|. Returns the first non-finite entry, or -1.
+    int loadB(const double* rhs) {
+        b = rhs;
+        aMax = aMaxA;
+        bMax = 0.0;
+        for (int i = 0; i < n; ++i) {
+            if (!std::isfinite(rhs[i])) return i;
+            bMax = std::max(bMax, std::fabs(rhs[i]));
+        }
+        return -1;
+    }
+
     /// Makes room for a block of `size` (the row stride grows geometrically up to n + 1; live rows are moved).
     /// Only the block that is actually used is ever allocated: a warm start that needs no pivot allocates none.
     void reserveBlock(int size) {
