@@ -1,4 +1,4 @@
-// core/lcp.cpp — Lemke's method with a compact, explicitly inverted basis block.
+// core/lcp.cpp — Lemke's method on a compact basis block, kept as a sparse LU plus a small dense border.
 //
 // Why not the textbook tableau: a tableau carries all n rows of B^-1 [b | I | A | d] and every pivot touches
 // n x 2n entries. Contact LCPs are sparse (A = J M^-1 J^T couples contacts that share a body) and most of the
@@ -8,13 +8,16 @@
 // Lemke's basis is almost complementary, so |R| = |cols| = m and the basic values solve the m x m system
 //     M y = -b_R,   M = [A_{R,alpha} | d_R],        (the "block")
 // while every basic w_i, i not in R, is an explicit sum w_i = b_i + A_{i,alpha} z_alpha + d_i z0.
-// I keep Binv = M^-1 explicitly and update it by one rank-one correction per pivot (four kinds: the block
-// grows, shrinks, or swaps a row or a column). A pivot costs O(m^2 + nnz(A restricted to alpha)) instead of O(n^2).
+// M is never inverted. It is kept as the block of the last refactorisation (a sparse LU) plus a border of the
+// rows and columns that changed since, through the inverse of a small Schur complement (see
+// Workspace::pivotBorder): a pivot costs one or two sparse solves plus O(q (q + k0)) for a border of size q, and
+// O(nnz(A restricted to alpha)) for the basic w's, instead of the O(n^2) of a tableau or the O(m^2) of an explicit
+// inverse (this solver's first form, which a 400-unknown pyramid block made the bulk of a landing's cost).
 //
 // Determinism: every loop runs in a fixed index order; the only reductions are sums in that order; nothing reads
 // the clock. The lexicographic rule compares the rows of [value | d value / d b_0 ... d value / d b_{n-1}]
 // divided by the pivot entry — the rows of B^-1 [b | I] of the full tableau — so it is the classical
-// anti-cycling rule, evaluated lazily and only for candidates whose ratios tie.
+// anti-cycling rule, evaluated lazily (one solve per block row it reaches) and only for candidates whose ratios tie.
 #include "lcp.h"
 #include "lcp_workspace.h"
 
@@ -31,23 +34,6 @@
 namespace unison {
 
 namespace {
-
-// The rank-one correction every pivot applies to the explicit block inverse: row q of Binv -= c_q v (c_q negated
-// when `negate`), for every row q < m except `skip`. It is most of a large island's pivot cost, so on x86-64 GCC
-// also builds an AVX2 clone, picked at load time. Each element is one rounded product and one rounded difference
-// in either clone (no FMA: the build contracts nothing), so both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-void subtractOuter(double* __restrict binv, std::size_t cap, int m, const double* __restrict c, bool negate,
-                   const double* __restrict v, int skip) {
-    for (int q = 0; q < m; ++q) {
-        if (q == skip) continue;
-        const double cq = negate ? -c[q] : c[q];
-        double* __restrict r = binv + std::size_t(q) * cap;
-        for (int p = 0; p < m; ++p) r[p] -= cq * v[p];
-    }
-}
 
 // Options a solve accepts (NaN fails every comparison, so it is out of range too).
 bool optionsInRange(const LcpOptions& o) {
@@ -297,8 +283,6 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         inRange = guess.front() >= 0 && guess.back() < n;
         if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
     }
-    ws.cap = 0;
-    ws.reserveBlock(std::min(n + 1, 64));
     ws.rowIdx.assign(nn + 1, -1);
     ws.colVar.assign(nn + 1, -1);
     ws.posRow.assign(nn, -1);
@@ -316,9 +300,8 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     ws.wval2 = ws.p;
     ws.dy.assign(nn + 1, 0.0);
     ws.dw.assign(nn, 0.0);
-    ws.vrow.assign(nn + 1, 0.0);
-    ws.tmp.assign(nn + 1, 0.0);
     ws.d.assign(nn, 1.0);
+    ws.resetBlock();
     bool warm = false;
     if (options.warmBasis && !options.warmBasis->empty()) {
         ws.ensureColumns();
@@ -357,14 +340,9 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             for (int q = 0; q < ws.m; ++q) ws.addColumn(ws.colVar[std::size_t(q)], result.z[std::size_t(ws.colVar[std::size_t(q)])], result.w.data());
         };
         recomputeW();
-        // One step of iterative refinement on the final block: z_alpha -= Binv w_R (w_R should be exactly 0).
-        for (int q = 0; q < ws.m; ++q) {
-            const double* r = ws.row(q);
-            double s = 0.0;
-            for (int p = 0; p < ws.m; ++p) s += r[p] * result.w[std::size_t(ws.rowIdx[std::size_t(p)])];
-            ws.tmp[std::size_t(q)] = s;
-        }
-        for (int q = 0; q < ws.m; ++q) result.z[std::size_t(ws.colVar[std::size_t(q)])] -= ws.tmp[std::size_t(q)];
+        // One step of iterative refinement on the final block: z_alpha -= B^-1 w_R (w_R should be exactly 0).
+        ws.blockSolve(result.w.data(), ws.dy.data());
+        for (int q = 0; q < ws.m; ++q) result.z[std::size_t(ws.colVar[std::size_t(q)])] -= ws.dy[std::size_t(q)];
         // Degenerate basic z's come out as +-1e-17: an impulse must never be negative, so rounding-level negatives
         // become exact zeros (larger ones stay and fail the residual check below).
         double zMax = 0.0;
@@ -418,13 +396,14 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     }
 
     if (warm) {
-        // Covering vector chosen so that every basic variable rises at rate 1 with z0:
-        // d_alpha = -A_{alpha,alpha} 1 and d_i = 1 - A_{i,alpha} 1 for the basic w's.
-        std::vector<double> ones(nn, 0.0);
-        for (int q = 0; q < ws.m; ++q) ones[std::size_t(ws.colVar[std::size_t(q)])] = 1.0;
-        std::vector<double> A1(nn, 0.0);
-        for (int q = 0; q < ws.m; ++q) ws.addColumn(ws.colVar[std::size_t(q)], 1.0, A1.data());
-        for (int i = 0; i < n; ++i) ws.d[std::size_t(i)] = ws.posRow[std::size_t(i)] >= 0 ? -A1[std::size_t(i)] : 1.0 - A1[std::size_t(i)];
+        // Covering vector chosen so that basic variable v rises at rate r(v) with z0: d_alpha = -A_{alpha,alpha} r
+        // and d_i = r_i - A_{i,alpha} r for the basic w's (LcpOptions::WarmCovering gives r).
+        const bool onlyViolated = options.warmCovering == LcpOptions::WarmCovering::violated;
+        auto rate = [&](double v) { return !onlyViolated || v < 0.0 ? 1.0 : 0.0; };
+        std::vector<double> Ar(nn, 0.0);
+        for (int q = 0; q < ws.m; ++q) ws.addColumn(ws.colVar[std::size_t(q)], rate(ws.zval[std::size_t(q)]), Ar.data());
+        for (int i = 0; i < n; ++i)
+            ws.d[std::size_t(i)] = ws.posRow[std::size_t(i)] >= 0 ? -Ar[std::size_t(i)] : rate(ws.wval[std::size_t(i)]) - Ar[std::size_t(i)];
         for (int i = 0; i < n; ++i) ws.aMax = std::max(ws.aMax, std::fabs(ws.d[std::size_t(i)]));
     }
 
@@ -497,33 +476,31 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     std::vector<Candidate>& tied = ws.tied;
 
     for (;;) {
-        const std::uint64_t cost = std::uint64_t(ws.m + 1) * std::uint64_t(ws.m + 1) + std::uint64_t(n);
+        const std::uint64_t cost = ws.pivotCost();
         if (result.pivots >= maxPivots) return finishWith(LcpStatus::pivot_limit, "pivot cap reached");
         // A warm path that wanders (the special covering vector can lead far from the guess) is cut off at warmCap;
         // the rest of the budget goes to a cold start.
         if (warm && result.pivots >= warmCap) return restart(true);
         if (options.maxWork && result.work + cost > options.maxWork) return finishWith(LcpStatus::pivot_limit, "work budget exhausted");
         const int m = ws.m;
-        // Direction of the basic variables per unit of the entering variable.
+        // Direction of the basic variables per unit of the entering variable: dy = -B^-1 (its column on the block
+        // rows) for a column variable, dy = B^-1 e_p when w of block row p enters.
         if (enterIsColumn) {
-            std::fill(ws.dy.begin(), ws.dy.begin() + m, 0.0);
             if (enterVar < n) {
-                for (int k = ws.colStart[std::size_t(enterVar)]; k < ws.colStart[std::size_t(enterVar) + 1]; ++k) {
-                    const int p = ws.posRow[std::size_t(ws.colRow[std::size_t(k)])];
-                    if (p < 0) continue;
-                    const double a = ws.colVal[std::size_t(k)];
-                    for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] -= ws.row(q)[p] * a;
-                }
+                for (int k = ws.colStart[std::size_t(enterVar)]; k < ws.colStart[std::size_t(enterVar) + 1]; ++k)
+                    ws.rhs[std::size_t(ws.colRow[std::size_t(k)])] = ws.colVal[std::size_t(k)];
+                ws.blockSolve(ws.rhs.data(), ws.dy.data());
+                for (int k = ws.colStart[std::size_t(enterVar)]; k < ws.colStart[std::size_t(enterVar) + 1]; ++k)
+                    ws.rhs[std::size_t(ws.colRow[std::size_t(k)])] = 0.0;
             } else {
-                for (int p = 0; p < m; ++p) {
-                    const double a = ws.d[std::size_t(ws.rowIdx[std::size_t(p)])];
-                    for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] -= ws.row(q)[p] * a;
-                }
+                ws.blockSolve(ws.d.data(), ws.dy.data());
             }
+            for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] = -ws.dy[std::size_t(q)];
             ws.computeDw(enterVar);
         } else {
-            const int pe = ws.posRow[std::size_t(enterVar)];
-            for (int q = 0; q < m; ++q) ws.dy[std::size_t(q)] = ws.row(q)[pe];
+            ws.rhs[std::size_t(enterVar)] = 1.0;
+            ws.blockSolve(ws.rhs.data(), ws.dy.data());
+            ws.rhs[std::size_t(enterVar)] = 0.0;
             ws.computeDw(-1);
         }
 
@@ -635,6 +612,9 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
                 r.work += result.work;
                 return r;
             }
+            // A warm path has no termination guarantee (its covering vector is not the classical one): its ray
+            // proves nothing, so the rest of the budget goes to a cold start, which has the guarantee.
+            if (warm) return restart(true);
             return finishWith(LcpStatus::infeasible, "secondary ray: Lemke found no solution (the LCP may have none)");
         }
         Candidate leave = tied[0];
@@ -670,22 +650,12 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             }
         }
 
-        // Basis exchange: four kinds of block update, each a rank-one correction of Binv.
-        if (enterIsColumn && !leave.isColumn) ws.reserveBlock(m + 1);
-        const int cap = ws.cap;
-        double* const __restrict Bi = ws.Binv;
+        // Basis exchange: the border of the block changes by one column and one row (Workspace::pivotBorder); the
+        // block's bookkeeping changes in one of four ways.
+        ws.pivotBorder(enterIsColumn, enterVar, leave.isColumn, leave.isColumn ? leave.var : leave.pos);
         if (enterIsColumn && !leave.isColumn) {
-            // (1) grow: row i joins the block rows, the entering column joins the block columns (bordering).
+            // (1) grow: row i joins the block rows, the entering column joins the block columns.
             const int i = leave.pos;
-            ws.rowTimesBinv(i, ws.vrow.data());  // v = c_i^T Binv
-            const double s = ws.dw[std::size_t(i)];  // Schur complement = dw_i
-            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] /= s;
-            // Binv[q] += (-dy_q) v, the same bits as Binv[q] -= dy_q v.
-            subtractOuter(Bi, std::size_t(cap), m, ws.dy.data(), false, ws.vrow.data(), -1);
-            for (int q = 0; q < m; ++q) Bi[std::size_t(q) * std::size_t(cap) + std::size_t(m)] = ws.dy[std::size_t(q)] / s;
-            double* __restrict last = Bi + std::size_t(m) * std::size_t(cap);
-            for (int p = 0; p < m; ++p) last[p] = -ws.vrow[std::size_t(p)];
-            last[m] = 1.0 / s;
             ws.rowIdx[std::size_t(m)] = i;
             ws.posRow[std::size_t(i)] = m;
             ws.colVar[std::size_t(m)] = enterVar;
@@ -697,10 +667,6 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         } else if (enterIsColumn && leave.isColumn) {
             // (2) column swap at block position qL.
             const int qL = leave.pos;
-            const double inv = 1.0 / -ws.dy[std::size_t(qL)];
-            double* __restrict pr = Bi + std::size_t(qL) * std::size_t(cap);
-            for (int p = 0; p < m; ++p) pr[p] *= inv;
-            subtractOuter(Bi, std::size_t(cap), m, ws.dy.data(), true, pr, qL);
             ws.posCol[std::size_t(leave.var)] = -1;
             ws.colVar[std::size_t(qL)] = enterVar;
             ws.posCol[std::size_t(enterVar)] = qL;
@@ -710,10 +676,6 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             // (3) row swap: row e leaves the block rows (w_e becomes basic), row i takes its place.
             const int i = leave.pos;
             const int pe = ws.posRow[std::size_t(enterVar)];
-            ws.rowTimesBinv(i, ws.vrow.data());
-            const double piv = ws.vrow[std::size_t(pe)];
-            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] = (ws.vrow[std::size_t(p)] - (p == pe ? 1.0 : 0.0)) / piv;
-            subtractOuter(Bi, std::size_t(cap), m, ws.dy.data(), false, ws.vrow.data(), -1);
             ws.posRow[std::size_t(enterVar)] = -1;
             ws.wval[std::size_t(enterVar)] = theta;
             ws.wval2[std::size_t(enterVar)] = theta2;
@@ -721,24 +683,17 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
             ws.posRow[std::size_t(i)] = pe;
             ws.wval[std::size_t(i)] = 0.0;
         } else {
-            // (4) shrink: row e and the leaving column leave the block; Schur update, then move the last row and
-            // column into the holes.
+            // (4) shrink: row e and the leaving column leave the block; the last row and column move into the holes.
             const int qL = leave.pos;
             const int pe = ws.posRow[std::size_t(enterVar)];
-            const double piv = ws.dy[std::size_t(qL)];
-            double* __restrict pr = Bi + std::size_t(qL) * std::size_t(cap);
-            for (int p = 0; p < m; ++p) ws.vrow[std::size_t(p)] = pr[p] / piv;
-            subtractOuter(Bi, std::size_t(cap), m, ws.dy.data(), false, ws.vrow.data(), qL);
             const int lastQ = m - 1, lastP = m - 1;
             if (qL != lastQ) {
-                std::copy_n(Bi + std::size_t(lastQ) * std::size_t(cap), m, Bi + std::size_t(qL) * std::size_t(cap));
                 ws.colVar[std::size_t(qL)] = ws.colVar[std::size_t(lastQ)];
                 ws.posCol[std::size_t(ws.colVar[std::size_t(qL)])] = qL;
                 ws.zval[std::size_t(qL)] = ws.zval[std::size_t(lastQ)];
                 ws.zval2[std::size_t(qL)] = ws.zval2[std::size_t(lastQ)];
             }
             if (pe != lastP) {
-                for (int q = 0; q < m - 1; ++q) Bi[std::size_t(q) * std::size_t(cap) + std::size_t(pe)] = Bi[std::size_t(q) * std::size_t(cap) + std::size_t(lastP)];
                 ws.rowIdx[std::size_t(pe)] = ws.rowIdx[std::size_t(lastP)];
                 ws.posRow[std::size_t(ws.rowIdx[std::size_t(pe)])] = pe;
             }
@@ -761,10 +716,16 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         enterVar = leave.var;
         enterIsColumn = !leave.isColumn;
 
-        // Rank-one updates accumulate rounding; refactor the block after many of them.
-        if (sinceRefactor >= std::max(256, 4 * ws.m)) {
+        // Fold the border into a fresh B0 when it has grown past its limit, or after many updates (rank-one updates
+        // of Sinv accumulate rounding even while the border stays small). A failed refactorisation keeps the
+        // current representation and raises the limit, so it is not retried every pivot.
+        if (ws.qb > ws.maxBorder() || sinceRefactor >= std::max(256, 4 * ws.m)) {
             sinceRefactor = 0;
-            if (ws.refactor()) ws.recomputeValues();
+            if (ws.refactor()) {
+                ws.recomputeValues();
+            } else {
+                ws.borderLimit = 2 * ws.qb;
+            }
         }
     }
 }

@@ -101,6 +101,15 @@ struct LcpOptions {
     /// Optional warm start: the indices i whose z_i are guessed to be basic (positive) at the solution, e.g.
     /// the previous step's basis. Invalid or singular guesses fall back to a cold start; never an error.
     const std::vector<int>* warmBasis = nullptr;
+    /// How a warm basis that is not already the answer is repaired: the covering vector of its Lemke path, given
+    /// by the rate at which each basic unknown of the guess rises with z0.
+    ///   uniform:  every basic unknown rises at rate 1 (the guess is lifted as a whole, then lowered back).
+    ///   violated: only the unknowns the guess leaves negative rise; the others stay where the guess puts them.
+    /// Neither has Lemke's termination guarantee (the classical d = 1 from the all-slack basis has it): a warm path
+    /// that wanders or ends in a ray hands the rest of the budget to a cold start. Which is shorter depends on the
+    /// problem family; see WorldDef2::lcp and WorldDef3::lcp for the measured choice of each world.
+    enum class WarmCovering { uniform, violated };
+    WarmCovering warmCovering = WarmCovering::uniform;
 
     static constexpr int kDefaultMaxPivots = 100000;
 };
@@ -108,7 +117,8 @@ struct LcpOptions {
 struct LcpResult {
     LcpStatus status = LcpStatus::invalid_input;
     int pivots = 0;              ///< basis exchanges performed (warm-start factorisation counts as none)
-    std::uint64_t work = 0;      ///< deterministic work units: sum over pivots of (basis size + 1)^2 + n
+    std::uint64_t work = 0;      ///< deterministic work units: sum over pivots of 2 nz(B0) + q (q + 2 k0) + n + 1 (B0: the
+                                 ///< factorised block, k0 x k0, nz = k0^2 when dense; q: border size)
     std::vector<double> z;       ///< (n) impulses / unknowns; meaningful when solved
     std::vector<double> w;       ///< (n) w = A z + b for the returned z
     double residual = 0.0;       ///< max_i |min(z_i, w_i)| of the returned (z, w)
@@ -123,10 +133,11 @@ struct LcpResult {
 double complementarityResidual(const std::vector<double>& z, const std::vector<double>& w);
 
 /// Lemke's complementary pivoting method with covering vector d = 1, run on a compact basis representation:
-/// only the block of the basis that couples basic z's with the rows whose w is nonbasic is kept, as an explicit
-/// inverse updated by rank-one corrections, and A is walked through its sparsity pattern. For contact problems,
-/// where A = J M^-1 J^T couples only contacts that share a body, a pivot costs O(k^2 + nnz) with k the number of
-/// basic z's instead of the O(n^2) of a full tableau.
+/// only the block of the basis that couples basic z's with the rows whose w is nonbasic is kept, as a sparse LU
+/// of the block at its last refactorisation plus a small dense Schur complement for the rows and columns that
+/// changed since, and A is walked through its sparsity pattern. For contact problems, where A = J M^-1 J^T
+/// couples only contacts that share a body, a pivot costs a sparse solve, O(q (q + k)) for a border of q changes
+/// on a k-unknown block, and O(nnz) for the basic w's, instead of the O(n^2) of a full tableau.
 ///
 /// The object keeps its buffers between calls, so a game loop can reuse one solver per thread without
 /// allocating once the buffers have grown to the largest island. It holds no other state: the result of solve()

@@ -20,6 +20,23 @@ namespace lcp_detail {
 
 constexpr double kTiny = 1e-300;
 
+// The rank-one correction every pivot applies to an explicit inverse: row q of inv -= c_q v (c_q negated when
+// `negate`), for every row q < m except `skip`. On x86-64 GCC it is also built for AVX2, picked at load time. Each
+// element is one rounded product and one rounded difference in either clone (no FMA: the build contracts nothing),
+// so both give the same bits.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+static void subtractOuter(double* __restrict inv, std::size_t stride, int m, const double* __restrict c, bool negate,
+                          const double* __restrict v, int skip) {
+    for (int q = 0; q < m; ++q) {
+        if (q == skip) continue;
+        const double cq = negate ? -c[q] : c[q];
+        double* __restrict r = inv + std::size_t(q) * stride;
+        for (int p = 0; p < m; ++p) r[p] -= cq * v[p];
+    }
+}
+
 /// A candidate to leave the basis in a ratio test.
 struct Candidate {
     bool isColumn;  // true: a basic column variable (z_j or z0) at block position `pos`; false: basic w_i, i = pos
@@ -33,6 +50,7 @@ struct Candidate {
 }  // namespace lcp_detail
 using lcp_detail::Candidate;
 using lcp_detail::kTiny;
+using lcp_detail::subtractOuter;
 
 namespace lcp_detail {
 
@@ -61,24 +79,7 @@ public:
                     scale = std::max(scale, std::fabs(rowVal[std::size_t(t)]));
                 }
             }
-            for (int c = 0; c < k; ++c) {
-                int best = c;
-                for (int r = c + 1; r < k; ++r) {
-                    if (std::fabs(at(r, c)) > std::fabs(at(best, c))) best = r;
-                }
-                perm[std::size_t(c)] = best;
-                if (!(std::fabs(at(best, c)) > 1e-14 * scale)) return false;
-                if (best != c) {
-                    for (int j = 0; j < k; ++j) std::swap(at(best, j), at(c, j));
-                }
-                for (int r = c + 1; r < k; ++r) {
-                    const double f = at(r, c) / at(c, c);
-                    at(r, c) = f;
-                    if (f == 0.0) continue;
-                    for (int j = c + 1; j < k; ++j) at(r, j) -= f * at(c, j);
-                }
-            }
-            return true;
+            return denseLu(scale);
         }
         entries.clear();
         for (int q = 0; q < k; ++q) {
@@ -88,6 +89,79 @@ public:
                 if (c >= 0) entries.emplace_back(q, c, rowVal[std::size_t(t)]);
             }
         }
+        return sparseLu();
+    }
+
+    /// Factorises the k x k matrix of `entries` (row, column, value; no duplicates): dense LU with partial pivoting
+    /// for k <= kDenseMax, Eigen's sparse LU otherwise (keeping its symbolic analysis while the pattern repeats).
+    bool factorEntries(int size, const std::vector<Eigen::Triplet<double>>& triplets) {
+        k = size;
+        dense = k <= kDenseMax;
+        if (dense) {
+            a.assign(std::size_t(k) * std::size_t(k), 0.0);
+            perm.resize(std::size_t(k));
+            double scale = 0.0;
+            for (const auto& t : triplets) {
+                at(t.row(), t.col()) = t.value();
+                scale = std::max(scale, std::fabs(t.value()));
+            }
+            return denseLu(scale);
+        }
+        entries = triplets;
+        return sparseLu();
+    }
+
+    /// x := A^-1 x (x has k entries).
+    void solve(double* x) const {
+        if (!dense) {
+            Eigen::Map<Eigen::VectorXd> v(x, k);
+            const Eigen::VectorXd y = sparse.solve(v);
+            v = y;
+            return;
+        }
+        for (int c = 0; c < k; ++c) std::swap(x[c], x[perm[std::size_t(c)]]);
+        for (int r = 1; r < k; ++r) {
+            double s = x[r];
+            for (int j = 0; j < r; ++j) s -= at(r, j) * x[j];
+            x[r] = s;
+        }
+        for (int r = k - 1; r >= 0; --r) {
+            double s = x[r];
+            for (int j = r + 1; j < k; ++j) s -= at(r, j) * x[j];
+            x[r] = s / at(r, r);
+        }
+    }
+
+    int size() const { return k; }
+
+    /// x := A^-1 x.
+    void solve(std::vector<double>& x) const { solve(x.data()); }
+
+    std::uint64_t work() const { return dense ? std::uint64_t(k) * std::uint64_t(k) : nonZeros; }
+
+private:
+    bool denseLu(double scale) {
+        for (int c = 0; c < k; ++c) {
+            int best = c;
+            for (int r = c + 1; r < k; ++r) {
+                if (std::fabs(at(r, c)) > std::fabs(at(best, c))) best = r;
+            }
+            perm[std::size_t(c)] = best;
+            if (!(std::fabs(at(best, c)) > 1e-14 * scale)) return false;
+            if (best != c) {
+                for (int j = 0; j < k; ++j) std::swap(at(best, j), at(c, j));
+            }
+            for (int r = c + 1; r < k; ++r) {
+                const double f = at(r, c) / at(c, c);
+                at(r, c) = f;
+                if (f == 0.0) continue;
+                for (int j = c + 1; j < k; ++j) at(r, j) -= f * at(c, j);
+            }
+        }
+        return true;
+    }
+
+    bool sparseLu() {
         Eigen::SparseMatrix<double> M(k, k);
         M.setFromTriplets(entries.begin(), entries.end());
         M.makeCompressed();
@@ -111,30 +185,7 @@ public:
         return sparse.info() == Eigen::Success;
     }
 
-    /// x := A^-1 x.
-    void solve(std::vector<double>& x) const {
-        if (!dense) {
-            Eigen::Map<Eigen::VectorXd> v(x.data(), k);
-            const Eigen::VectorXd y = sparse.solve(v);
-            v = y;
-            return;
-        }
-        for (int c = 0; c < k; ++c) std::swap(x[std::size_t(c)], x[std::size_t(perm[std::size_t(c)])]);
-        for (int r = 1; r < k; ++r) {
-            double s = x[std::size_t(r)];
-            for (int j = 0; j < r; ++j) s -= at(r, j) * x[std::size_t(j)];
-            x[std::size_t(r)] = s;
-        }
-        for (int r = k - 1; r >= 0; --r) {
-            double s = x[std::size_t(r)];
-            for (int j = r + 1; j < k; ++j) s -= at(r, j) * x[std::size_t(j)];
-            x[std::size_t(r)] = s / at(r, r);
-        }
-    }
 
-    std::uint64_t work() const { return dense ? std::uint64_t(k) * std::uint64_t(k) : nonZeros; }
-
-private:
     double& at(int r, int c) { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
     double at(int r, int c) const { return a[std::size_t(r) * std::size_t(k) + std::size_t(c)]; }
 
@@ -155,7 +206,6 @@ using lcp_detail::BlockFactor;
 /// All per-solve state. Lives on the stack of solve(); the big buffers are borrowed from the solver object.
 struct LemkeSolver::Workspace {
     int n = 0;
-    int cap = 0;
     const double* b = nullptr;
     std::vector<double> d;  // covering vector (n)
     // Sparsity of A: column-major (for A z and directions) and row-major (for rows entering the block).
@@ -164,26 +214,50 @@ struct LemkeSolver::Workspace {
     bool columnsReady = false;      // colStart/colRow/colVal match the rows (see ensureColumns)
     BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
-    std::vector<double> binvStore;  // storage of Binv, kept between solves (grows, never shrinks)
-    double* Binv = nullptr;  // (cap x cap), Binv[q * cap + p]: block column-variable q by block row p
     int m = 0;
     std::vector<int> rowIdx, posRow;  // block row p <-> index i (posRow[i] = -1: w_i basic)
     std::vector<int> colVar, posCol;  // block column q <-> variable (0..n-1: z_j, n: z0); posCol has n + 1 entries
-    std::vector<double> zval;         // (cap) value of the column variable at block position q
+    std::vector<double> zval;         // (n + 1) value of the column variable at block position q
     std::vector<double> wval;         // (n) value of w_i while it is basic
     // Degeneracy: b is treated as b + eps p for a fixed generic p > 0 and an infinitesimal eps; zval2/wval2 carry
     // the eps coefficient of every basic value, updated by the same pivots. Ratio ties (contact LCPs are full of
     // them: every resting contact has b_i = 0) are broken by these coefficients first.
     std::vector<double> p;            // (n) perturbation direction
     std::vector<double> bPerturbed;   // (n) b + delta max|b| p, the right-hand side pivoted on
-    std::vector<double> zval2;        // (cap)
+    std::vector<double> zval2;        // (n + 1)
     std::vector<double> wval2;        // (n)
-    std::vector<double> dy, dw, vrow, tmp;
+    std::vector<double> dy, dw, rhs;  // rhs: (n + 1) scratch right-hand side by row index, kept all zero
     std::vector<Candidate> cands, tied;
     double aMaxA = 0.0;           // max |A_ij|
     double aMax = 0.0, bMax = 0.0;  // aMax also covers the covering vector d
 
-    double* row(int q) { return Binv + std::size_t(q) * std::size_t(cap); }
+    // ---- The block, as an earlier block plus a border ------------------------------------------------------------
+    // The block B (rows rowIdx, columns colVar) is not inverted. It is kept as B0, the block at the last
+    // refactorisation (rows r0Row, columns c0Var, LU in f0), plus a border that records what changed since: columns
+    // that entered (ColIn) and rows of B0 that left (their equations get a free slack column), rows that entered
+    // (RowIn) and columns of B0 that left (a row pins them to zero). B x = r is then the bordered system
+    //     [B0 W] [x0]   [r0]        W = [A(R0, ColIn) | unit columns of the left rows]
+    //     [Y  Z] [xb] = [rb],       Y = [A(RowIn, C0) ; unit rows of the left columns],
+    // solved through S = Z - Y B0^-1 W (q x q, q = border size) and G = B0^-1 W: xb = S^-1 (rb - Y u),
+    // x0 = u - G xb with u = B0^-1 r0. Every pivot changes the border by one column and one row (added or removed),
+    // which is one of four rank-one updates of Sinv = S^-1 (grow, shrink, replace a column, replace a row), each
+    // O(q^2), plus one sparse solve with B0 for a new border column. A pivot costs O(nnz(LU) + q (q + k0)) instead
+    // of the O(m^2) of an explicit inverse, and a warm start factorises its guess once instead of inverting it.
+    // The border is folded into a fresh B0 when it grows past maxBorder().
+    struct BorderEntry {
+        bool left;  // column: slack of R0 row idx (else column variable idx entered); row: C0 column idx left (else row idx entered)
+        int idx;
+    };
+    int k0 = 0;
+    std::vector<int> r0Row, c0Var;     // B0 position -> row index / column variable
+    std::vector<int> pos0Row, pos0Col;  // row index (n) / column variable (n + 1) -> B0 position, or -1
+    std::vector<BorderEntry> bcol, brow;
+    std::vector<int> bcolOfVar, browOfVar;  // (n + 1) column variable -> border column (ColIn) / row (C0 left), or -1
+    std::vector<int> bcolOfRow, browOfRow;  // (n) row index -> border column (R0 left) / row (RowIn), or -1
+    int qb = 0, scap = 0;
+    std::vector<double> G;     // column t of G at G[t * k0]
+    std::vector<double> Sinv;  // Sinv[t * scap + s]: border column t by border row s
+    std::vector<double> u, sx, sy, sc, sr;  // scratch
 
     /// Takes b for a solve: sets aMax from A's and bMax = max |b_i|. Returns the first non-finite entry, or -1.
     int loadB(const double* rhs) {
@@ -195,28 +269,6 @@ struct LemkeSolver::Workspace {
             bMax = std::max(bMax, std::fabs(rhs[i]));
         }
         return -1;
-    }
-
-    /// Makes room for a block of `size` (the row stride grows geometrically up to n + 1; live rows are moved).
-    /// Only the block that is actually used is ever allocated: a warm start that needs no pivot allocates none.
-    void reserveBlock(int size) {
-        if (size <= cap && Binv != nullptr) return;
-        const int newCap = std::min(n + 1, std::max(size, 2 * cap));
-        const std::size_t need = std::size_t(newCap) * std::size_t(newCap);
-        if (binvStore.size() < need) {
-            std::vector<double> grown(need);
-            for (int q = 0; q < m; ++q) std::copy_n(row(q), m, grown.data() + std::size_t(q) * std::size_t(newCap));
-            binvStore.swap(grown);
-        } else {
-            // Same storage, wider stride: move rows from the last to the first so nothing is overwritten.
-            for (int q = m - 1; q >= 0; --q) {
-                std::copy_backward(binvStore.data() + std::size_t(q) * std::size_t(cap),
-                                   binvStore.data() + std::size_t(q) * std::size_t(cap) + std::size_t(m),
-                                   binvStore.data() + std::size_t(q) * std::size_t(newCap) + std::size_t(m));
-            }
-        }
-        Binv = binvStore.data();
-        cap = newCap;
     }
 
     /// One pass over a dense row-major A: its nonzeros by rows, the largest |A_ij|, and the first non-finite
@@ -328,24 +380,6 @@ struct LemkeSolver::Workspace {
         }
     }
 
-    /// vrow[p] = sum_q [A | d](i, colVar[q]) * Binv[q][p]: row i of [A | d] restricted to the block columns, times Binv.
-    void rowTimesBinv(int i, double* out) {
-        std::fill(out, out + m, 0.0);
-        for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
-            const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
-            if (q < 0) continue;
-            const double c = rowVal[std::size_t(k)];
-            const double* __restrict r = row(q);
-            for (int p = 0; p < m; ++p) out[p] += c * r[p];
-        }
-        const int q0 = posCol[std::size_t(n)];
-        if (q0 >= 0 && d[std::size_t(i)] != 0.0) {
-            const double c = d[std::size_t(i)];
-            const double* __restrict r = row(q0);
-            for (int p = 0; p < m; ++p) out[p] += c * r[p];
-        }
-    }
-
     /// dw[i] = change of basic w_i per unit of the entering variable, given dy. enteringVar >= 0 adds its column.
     void computeDw(int enteringVar) {
         std::fill(dw.begin(), dw.end(), 0.0);
@@ -355,48 +389,143 @@ struct LemkeSolver::Workspace {
         if (enteringVar >= 0) addColumn(enteringVar, 1.0, dw.data());
     }
 
-    /// Inverts the block M[p][q] = [A | d](rowIdx[p], colVar[q]) into Binv: a sparse LU of the block (the block of a
-    /// contact LCP is as sparse as A), then one solve per unit vector. False when the block is singular or so badly
-    /// conditioned that rank-one updates from it would be meaningless.
+    static std::size_t at(int i) { return std::size_t(i); }
+
+    BlockFactor& factor() { return factors[current]; }
+
+    /// [A | d](i, var), one entry (the columns of a row ascend).
+    double entry(int i, int var) const {
+        if (var == n) return d[at(i)];
+        const int* first = rowCol.data() + rowStart[at(i)];
+        const int* last = rowCol.data() + rowStart[at(i) + 1];
+        const int* it = std::lower_bound(first, last, var);
+        return it != last && *it == var ? rowVal[std::size_t(it - rowCol.data())] : 0.0;
+    }
+
+    /// Row i of [A | d] restricted to the columns that `pos` places (pos0Col: B0's; posCol: the block's), times v
+    /// (by those positions).
+    double rowDot(int i, const std::vector<int>& pos, const double* v) const {
+        double s = 0.0;
+        for (int t = rowStart[at(i)]; t < rowStart[at(i) + 1]; ++t) {
+            const int c = pos[at(rowCol[at(t)])];
+            if (c >= 0) s += rowVal[at(t)] * v[c];
+        }
+        const int c0 = pos[at(n)];
+        if (c0 >= 0) s += d[at(i)] * v[c0];
+        return s;
+    }
+    double rowDotB0(int i, const double* v) const { return rowDot(i, pos0Col, v); }
+
+    /// An empty block for a solve of size n: B0 is 0 x 0 and the border is empty.
+    void resetBlock() {
+        pos0Row.assign(at(n), -1);
+        pos0Col.assign(at(n) + 1, -1);
+        bcolOfVar.assign(at(n) + 1, -1);
+        browOfVar.assign(at(n) + 1, -1);
+        bcolOfRow.assign(at(n), -1);
+        browOfRow.assign(at(n), -1);
+        r0Row.clear();
+        c0Var.clear();
+        bcol.clear();
+        brow.clear();
+        k0 = 0;
+        qb = 0;
+        borderLimit = 0;
+        triplets.clear();
+        factor().factorEntries(0, triplets);
+        rhs.assign(at(n) + 1, 0.0);
+    }
+
+    /// The border size past which the block is refactorised: a pivot costs O(q (q + k0)) on top of the O(nnz(LU))
+    /// sparse solves, so the border stays a small multiple of the solve cost.
+    int maxBorder() const { return std::max(borderLimit, std::max(32, int(std::sqrt(double(k0)) * 4.0))); }
+
+    /// The work of one pivot (the unit of LcpOptions::maxWork): the solves with B0, the border, the w rows.
+    std::uint64_t pivotCost() const {
+        return 2 * factors[current].work() + std::uint64_t(qb) * std::uint64_t(qb + 2 * k0) + std::uint64_t(n) + 1;
+    }
+
+    /// Makes the current block B0 with a fresh LU and an empty border. False, with nothing changed, when the block
+    /// is singular or so badly conditioned (|B^-1 1| |B| > 1e14) that the pivots that follow would be rounding noise.
     bool refactor() {
-        reserveBlock(m);
-        if (m == 0) return true;
-        std::vector<Eigen::Triplet<double>> entries;
+        triplets.clear();
         double scale = 0.0;
-        const int q0 = posCol[std::size_t(n)];
+        const int q0 = posCol[at(n)];
         for (int p = 0; p < m; ++p) {
-            const int i = rowIdx[std::size_t(p)];
-            for (int k = rowStart[std::size_t(i)]; k < rowStart[std::size_t(i) + 1]; ++k) {
-                const int q = posCol[std::size_t(rowCol[std::size_t(k)])];
+            const int i = rowIdx[at(p)];
+            for (int k = rowStart[at(i)]; k < rowStart[at(i) + 1]; ++k) {
+                const int q = posCol[at(rowCol[at(k)])];
                 if (q < 0) continue;
-                entries.emplace_back(p, q, rowVal[std::size_t(k)]);
-                scale = std::max(scale, std::fabs(rowVal[std::size_t(k)]));
+                triplets.emplace_back(p, q, rowVal[at(k)]);
+                scale = std::max(scale, std::fabs(rowVal[at(k)]));
             }
-            if (q0 >= 0 && d[std::size_t(i)] != 0.0) {
-                entries.emplace_back(p, q0, d[std::size_t(i)]);
-                scale = std::max(scale, std::fabs(d[std::size_t(i)]));
+            if (q0 >= 0 && d[at(i)] != 0.0) {
+                triplets.emplace_back(p, q0, d[at(i)]);
+                scale = std::max(scale, std::fabs(d[at(i)]));
             }
         }
-        Eigen::SparseMatrix<double> M(m, m);
-        M.setFromTriplets(entries.begin(), entries.end());
-        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-        lu.compute(M);
-        if (lu.info() != Eigen::Success) return false;
-        // Column p of M^-1 is row p of nothing in particular: Binv[q][p] = (M^-1)(q, p).
-        Eigen::VectorXd e = Eigen::VectorXd::Zero(m), x(m);
+        BlockFactor& fresh = factors[1 - current];
+        if (!fresh.factorEntries(m, triplets)) return false;
+        u.assign(at(m), 1.0);
+        fresh.solve(u.data());
         double xMax = 0.0;
-        for (int p = 0; p < m; ++p) {
-            e[p] = 1.0;
-            x = lu.solve(e);
-            e[p] = 0.0;
-            for (int q = 0; q < m; ++q) {
-                if (!std::isfinite(x[q])) return false;
-                row(q)[p] = x[q];
-                xMax = std::max(xMax, std::fabs(x[q]));
+        for (int q = 0; q < m; ++q) {
+            if (!std::isfinite(u[at(q)])) return false;
+            xMax = std::max(xMax, std::fabs(u[at(q)]));
+        }
+        if (!(xMax * scale <= 1e14)) return false;
+        current = 1 - current;
+        for (int i : r0Row) pos0Row[at(i)] = -1;
+        for (int v : c0Var) pos0Col[at(v)] = -1;
+        for (int t = 0; t < qb; ++t) mapColumn(t, false);
+        for (int s = 0; s < qb; ++s) mapRow(s, false);
+        bcol.clear();
+        brow.clear();
+        qb = 0;
+        borderLimit = 0;
+        k0 = m;
+        G.resize(at(scap) * at(k0));
+        r0Row.assign(rowIdx.begin(), rowIdx.begin() + m);
+        c0Var.assign(colVar.begin(), colVar.begin() + m);
+        for (int p = 0; p < m; ++p) pos0Row[at(r0Row[at(p)])] = p;
+        for (int q = 0; q < m; ++q) pos0Col[at(c0Var[at(q)])] = q;
+        return true;
+    }
+
+    /// x = B^-1 r: r by row index (only the block's rows are read), x by block column position (m entries).
+    void blockSolve(const double* r, double* x) {
+        u.resize(at(k0));
+        for (int j = 0; j < k0; ++j) {
+            const int i = r0Row[at(j)];
+            u[at(j)] = bcolOfRow[at(i)] < 0 ? r[i] : 0.0;  // a row that left has a free slack: its value is moot
+        }
+        factor().solve(u.data());
+        if (qb > 0) {
+            sy.resize(at(qb));
+            sx.resize(at(qb));
+            for (int s = 0; s < qb; ++s) {
+                const BorderEntry& e = brow[at(s)];
+                sy[at(s)] = e.left ? -u[at(pos0Col[at(e.idx)])] : r[e.idx] - rowDotB0(e.idx, u.data());
+            }
+            for (int t = 0; t < qb; ++t) {
+                const double* __restrict row = Sinv.data() + at(t) * at(scap);
+                double acc = 0.0;
+                for (int s = 0; s < qb; ++s) acc += row[s] * sy[at(s)];
+                sx[at(t)] = acc;
+            }
+            for (int t = 0; t < qb; ++t) {
+                const double f = sx[at(t)];
+                if (f == 0.0) continue;
+                const double* __restrict g = G.data() + at(t) * at(k0);
+                double* __restrict uu = u.data();
+                for (int j = 0; j < k0; ++j) uu[j] -= g[j] * f;
             }
         }
-        // |M^-1| |M| ~ condition number: beyond 1e14 the pivots that follow would be rounding noise.
-        return xMax * scale <= 1e14;
+        for (int q = 0; q < m; ++q) {
+            const int var = colVar[at(q)];
+            const int t = bcolOfVar[at(var)];
+            x[q] = t >= 0 ? sx[at(t)] : u[at(pos0Col[at(var)])];
+        }
     }
 
     /// Recomputes every basic value from scratch (the entering variable is at zero between pivots).
@@ -404,43 +533,230 @@ struct LemkeSolver::Workspace {
         recomputeValues(b, zval, wval);
         recomputeValues(p.data(), zval2, wval2);
     }
-    void recomputeValues(const double* rhs, std::vector<double>& zv, std::vector<double>& wv) {
-        for (int q = 0; q < m; ++q) {
-            const double* r = row(q);
-            double s = 0.0;
-            for (int k = 0; k < m; ++k) s += r[k] * rhs[rowIdx[std::size_t(k)]];
-            zv[std::size_t(q)] = -s;
+    void recomputeValues(const double* r, std::vector<double>& zv, std::vector<double>& wv) {
+        blockSolve(r, zv.data());
+        for (int q = 0; q < m; ++q) zv[at(q)] = -zv[at(q)];
+        std::vector<double> w(r, r + n);
+        for (int q = 0; q < m; ++q) addColumn(colVar[at(q)], zv[at(q)], w.data());
+        for (int i = 0; i < n; ++i) wv[at(i)] = posRow[at(i)] < 0 ? w[at(i)] : 0.0;
+    }
+
+    /// One pivot's change of the border: the entering variable (a column variable, or the row index of a w that
+    /// becomes basic) and the leaving one (a column variable, or the row index of a w that leaves the basis).
+    /// Call it before the block's own bookkeeping (rowIdx, colVar, ...) changes.
+    void pivotBorder(bool enterIsColumn, int enterVar, bool leaveIsColumn, int leaveIdx) {
+        // One side of S gains a border column or loses a border row ...
+        BorderEntry addC{false, -1};
+        int remR = -1;
+        if (enterIsColumn) {
+            remR = browOfVar[at(enterVar)];  // a column of B0 that left comes back
+            addC = {false, enterVar};
+        } else {
+            remR = browOfRow[at(enterVar)];  // a row that entered leaves again
+            addC = {true, enterVar};
         }
-        std::vector<double> w(rhs, rhs + n);
-        for (int q = 0; q < m; ++q) addColumn(colVar[std::size_t(q)], zv[std::size_t(q)], w.data());
-        for (int i = 0; i < n; ++i) wv[std::size_t(i)] = posRow[std::size_t(i)] < 0 ? w[std::size_t(i)] : 0.0;
+        // ... the other gains a border row or loses a border column.
+        BorderEntry addR{false, -1};
+        int remC = -1;
+        if (leaveIsColumn) {
+            remC = bcolOfVar[at(leaveIdx)];
+            addR = {true, leaveIdx};
+        } else {
+            remC = bcolOfRow[at(leaveIdx)];
+            addR = {false, leaveIdx};
+        }
+        if (remR < 0 && remC < 0) {
+            growBorder(addC, addR);
+        } else if (remR < 0) {
+            replaceBorderColumn(remC, addC);
+        } else if (remC < 0) {
+            replaceBorderRow(remR, addR);
+        } else {
+            shrinkBorder(remR, remC);
+        }
     }
 
-    /// d(value)/d(b_k) of a candidate: the lexicographic row of B^-1 [b | I].
-    double sensitivity(const Candidate& c, int k, const std::vector<double>& candRow) {
-        const int p = posRow[std::size_t(k)];
-        if (c.isColumn) return p >= 0 ? -row(c.pos)[p] : 0.0;
-        return (k == c.pos ? 1.0 : 0.0) - (p >= 0 ? candRow[std::size_t(p)] : 0.0);
+private:
+    void mapColumn(int t, bool on) {
+        const BorderEntry& e = bcol[at(t)];
+        (e.left ? bcolOfRow : bcolOfVar)[at(e.idx)] = on ? t : -1;
+    }
+    void mapRow(int s, bool on) {
+        const BorderEntry& e = brow[at(s)];
+        (e.left ? browOfVar : browOfRow)[at(e.idx)] = on ? s : -1;
     }
 
-    /// Breaks a tie among candidates lexicographically (min test: smallest; start test: largest), then by index.
-    int breakTie(std::vector<Candidate>& tied, bool takeMax) {
-        std::vector<std::vector<double>> rows(tied.size());
-        for (std::size_t t = 0; t < tied.size(); ++t) {
-            if (!tied[t].isColumn) {
-                rows[t].resize(std::size_t(m));
-                rowTimesBinv(tied[t].pos, rows[t].data());
+    void reserveBorder(int size) {
+        if (size <= scap) return;
+        const int newCap = std::max({size, 2 * scap, 16});
+        std::vector<double> grown(at(newCap) * at(newCap));
+        for (int t = 0; t < qb; ++t) std::copy_n(Sinv.data() + at(t) * at(scap), qb, grown.data() + at(t) * at(newCap));
+        Sinv.swap(grown);
+        scap = newCap;
+        G.resize(at(newCap) * at(k0));
+    }
+
+    /// g = B0^-1 (border column e on B0's rows).
+    void borderColumnSolve(const BorderEntry& e, double* g) {
+        std::fill(g, g + k0, 0.0);
+        if (e.left) {
+            g[pos0Row[at(e.idx)]] = 1.0;
+        } else if (e.idx == n) {
+            for (int j = 0; j < k0; ++j) g[j] = d[at(r0Row[at(j)])];
+        } else {
+            for (int k = colStart[at(e.idx)]; k < colStart[at(e.idx) + 1]; ++k) {
+                const int p0 = pos0Row[at(colRow[at(k)])];
+                if (p0 >= 0) g[p0] = colVal[at(k)];
             }
         }
+        factor().solve(g);
+    }
+
+    /// S(r, c) = Z(r, c) - Y_r g_c for border row r and a border column whose B0^-1 W column is g.
+    double schurEntry(const BorderEntry& r, const BorderEntry& c, const double* g) const {
+        if (r.left) return -g[pos0Col[at(r.idx)]];
+        return (c.left ? 0.0 : entry(r.idx, c.idx)) - rowDotB0(r.idx, g);
+    }
+
+    void growBorder(const BorderEntry& c, const BorderEntry& r) {
+        reserveBorder(qb + 1);
+        double* g = G.data() + at(qb) * at(k0);
+        borderColumnSolve(c, g);
+        sc.resize(at(qb) + 1);
+        sr.resize(at(qb) + 1);
+        sx.resize(at(qb) + 1);
+        sy.resize(at(qb) + 1);
+        for (int s = 0; s < qb; ++s) sc[at(s)] = schurEntry(brow[at(s)], c, g);
+        for (int t = 0; t < qb; ++t) sr[at(t)] = schurEntry(r, bcol[at(t)], G.data() + at(t) * at(k0));
+        const double corner = schurEntry(r, c, g);
+        // a = Sinv c, b^T = r^T Sinv, sigma = corner - r^T a; the bordered inverse.
+        double sigma = corner;
+        for (int t = 0; t < qb; ++t) {
+            const double* row = Sinv.data() + at(t) * at(scap);
+            double acc = 0.0;
+            for (int s = 0; s < qb; ++s) acc += row[s] * sc[at(s)];
+            sx[at(t)] = acc;
+            sigma -= sr[at(t)] * acc;
+        }
+        for (int s = 0; s < qb; ++s) sy[at(s)] = 0.0;
+        for (int t = 0; t < qb; ++t) {
+            const double* row = Sinv.data() + at(t) * at(scap);
+            const double f = sr[at(t)];
+            for (int s = 0; s < qb; ++s) sy[at(s)] += f * row[s];
+        }
+        for (int s = 0; s < qb; ++s) sy[at(s)] /= sigma;
+        subtractOuter(Sinv.data(), at(scap), qb, sx.data(), true, sy.data(), -1);  // Sinv += a b^T / sigma
+        for (int t = 0; t < qb; ++t) Sinv[at(t) * at(scap) + at(qb)] = -sx[at(t)] / sigma;
+        double* last = Sinv.data() + at(qb) * at(scap);
+        for (int s = 0; s < qb; ++s) last[s] = -sy[at(s)];
+        last[qb] = 1.0 / sigma;
+        bcol.push_back(c);
+        brow.push_back(r);
+        mapColumn(qb, true);
+        mapRow(qb, true);
+        ++qb;
+    }
+
+    void replaceBorderColumn(int tStar, const BorderEntry& c) {
+        sc.resize(at(qb));
+        sx.resize(at(qb));
+        u.resize(at(k0));
+        borderColumnSolve(c, u.data());
+        for (int s = 0; s < qb; ++s) sc[at(s)] = schurEntry(brow[at(s)], c, u.data());
+        for (int t = 0; t < qb; ++t) {
+            const double* row = Sinv.data() + at(t) * at(scap);
+            double acc = 0.0;
+            for (int s = 0; s < qb; ++s) acc += row[s] * sc[at(s)];
+            sx[at(t)] = acc;
+        }
+        // Sinv' = Sinv - (a - e_t*) (row t* of Sinv) / a_t*: row t* scales, the others lose a multiple of it.
+        double* pr = Sinv.data() + at(tStar) * at(scap);
+        const double inv = 1.0 / sx[at(tStar)];
+        for (int s = 0; s < qb; ++s) pr[s] *= inv;
+        subtractOuter(Sinv.data(), at(scap), qb, sx.data(), false, pr, tStar);
+        std::copy_n(u.data(), k0, G.data() + at(tStar) * at(k0));
+        mapColumn(tStar, false);
+        bcol[at(tStar)] = c;
+        mapColumn(tStar, true);
+    }
+
+    void replaceBorderRow(int sStar, const BorderEntry& r) {
+        sr.resize(at(qb));
+        sy.resize(at(qb));
+        sc.resize(at(qb));
+        for (int t = 0; t < qb; ++t) sr[at(t)] = schurEntry(r, bcol[at(t)], G.data() + at(t) * at(k0));
+        for (int s = 0; s < qb; ++s) sy[at(s)] = 0.0;
+        for (int t = 0; t < qb; ++t) {
+            const double* row = Sinv.data() + at(t) * at(scap);
+            const double f = sr[at(t)];
+            for (int s = 0; s < qb; ++s) sy[at(s)] += f * row[s];
+            sc[at(t)] = row[sStar];
+        }
+        // Sinv' = Sinv - (column s* of Sinv) (b - e_s*)^T / b_s*.
+        const double piv = sy[at(sStar)];
+        for (int s = 0; s < qb; ++s) sy[at(s)] = (sy[at(s)] - (s == sStar ? 1.0 : 0.0)) / piv;
+        subtractOuter(Sinv.data(), at(scap), qb, sc.data(), false, sy.data(), -1);
+        mapRow(sStar, false);
+        brow[at(sStar)] = r;
+        mapRow(sStar, true);
+    }
+
+    void shrinkBorder(int sStar, int tStar) {
+        // The inverse without row s* and column t* of S: Sinv_{-t*,-s*} - Sinv_{-t*,s*} Sinv_{t*,-s*} / Sinv_{t*,s*}.
+        sc.resize(at(qb));
+        sy.resize(at(qb));
+        double* pr = Sinv.data() + at(tStar) * at(scap);
+        const double piv = pr[sStar];
+        for (int s = 0; s < qb; ++s) sy[at(s)] = pr[s] / piv;
+        for (int t = 0; t < qb; ++t) sc[at(t)] = Sinv[at(t) * at(scap) + at(sStar)];
+        subtractOuter(Sinv.data(), at(scap), qb, sc.data(), false, sy.data(), tStar);
+        mapColumn(tStar, false);
+        mapRow(sStar, false);
+        const int last = qb - 1;
+        if (tStar != last) {
+            std::copy_n(Sinv.data() + at(last) * at(scap), qb, pr);
+            std::copy_n(G.data() + at(last) * at(k0), k0, G.data() + at(tStar) * at(k0));
+            bcol[at(tStar)] = bcol[at(last)];
+            mapColumn(tStar, true);
+        }
+        if (sStar != last) {
+            for (int t = 0; t < last; ++t) Sinv[at(t) * at(scap) + at(sStar)] = Sinv[at(t) * at(scap) + at(last)];
+            brow[at(sStar)] = brow[at(last)];
+            mapRow(sStar, true);
+        }
+        bcol.pop_back();
+        brow.pop_back();
+        qb = last;
+    }
+
+public:
+    /// Breaks a tie among candidates lexicographically (min test: smallest; start test: largest), then by index.
+    /// The lexicographic key of candidate c at index k is d(value of c)/d(b_k), from column k of B^-1 (one solve
+    /// per k that is a block row; most ties end within a few k).
+    int breakTie(std::vector<Candidate>& tied, bool takeMax) {
         std::vector<std::size_t> alive(tied.size());
         for (std::size_t t = 0; t < tied.size(); ++t) alive[t] = t;
         std::vector<double> val(tied.size());
+        std::vector<double> column(at(m));
         for (int k = 0; k < n && alive.size() > 1; ++k) {
+            const bool inBlock = posRow[at(k)] >= 0;
+            if (inBlock) {
+                rhs[at(k)] = 1.0;
+                blockSolve(rhs.data(), column.data());
+                rhs[at(k)] = 0.0;
+            }
             double best = 0.0, mag = 0.0;
             bool first = true;
             for (std::size_t t : alive) {
+                const Candidate& c = tied[t];
+                double sensitivity;
+                if (c.isColumn) {
+                    sensitivity = inBlock ? -column[at(c.pos)] : 0.0;
+                } else {
+                    sensitivity = (k == c.pos ? 1.0 : 0.0) - (inBlock ? rowDot(c.pos, posCol, column.data()) : 0.0);
+                }
                 // Ratio of the perturbed value: value(eps) / -delta (min test) or -value(eps) / delta (start test).
-                val[t] = -sensitivity(tied[t], k, rows[t]) / tied[t].delta;
+                val[t] = -sensitivity / c.delta;
                 mag = std::max(mag, std::fabs(val[t]));
                 if (first || (takeMax ? val[t] > best : val[t] < best)) best = val[t];
                 first = false;
@@ -458,6 +774,11 @@ struct LemkeSolver::Workspace {
         }
         return int(pick);
     }
+
+    BlockFactor factors[2];  // B0's LU and the spare a refactorisation writes into (kept if it fails)
+    int current = 0;
+    int borderLimit = 0;  // raised when a refactorisation fails, so it is not retried every pivot
+    std::vector<Eigen::Triplet<double>> triplets;
 };
 
 

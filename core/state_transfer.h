@@ -262,6 +262,7 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     io.f64("lcp.pivotTolerance", def.lcp.pivotTolerance);
     io.f64("lcp.residualTolerance", def.lcp.residualTolerance);
     io.f64("lcp.degeneracyPerturbation", def.lcp.degeneracyPerturbation);
+    enumeration(io, "lcp.warmCovering", def.lcp.warmCovering, int(LcpOptions::WarmCovering::violated));
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
         if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");

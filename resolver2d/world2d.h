@@ -58,7 +58,15 @@ struct WorldDef2 {
     /// scaled residual is at most this; only beyond it does the island fall back to the frictionless LCP.
     /// StepStats2 counts such islands and reports the largest scaled residual.
     double acceptResidual = 1e-6;
-    LcpOptions lcp;                      ///< per-island solver options; maxPivots 0 = 2n + 100 per island LCP
+    /// Per-island solver options; maxPivots 0 = 2n + 100 per island LCP. Warm starts are repaired with the
+    /// `violated` covering (LcpOptions::WarmCovering): on the 16- to 22-row pyramids it takes 2.5-4x fewer landing
+    /// pivots than `uniform` (20 rows: 2578 against 6558 pivots over 300 steps; bench_world2d), and the same on
+    /// 40 separate pyramids.
+    LcpOptions lcp = [] {
+        LcpOptions o;
+        o.warmCovering = LcpOptions::WarmCovering::violated;
+        return o;
+    }();
 };
 
 /// Hot per-body state: the only thing the solver writes. 64 bytes.

@@ -22,7 +22,7 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef2) == 160, "WorldDef2 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef2) == 168, "WorldDef2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field in transferState()");

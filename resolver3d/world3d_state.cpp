@@ -21,7 +21,7 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef3) == 160, "WorldDef3 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef3) == 168, "WorldDef3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field in transferState()");

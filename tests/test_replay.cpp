@@ -36,13 +36,13 @@ struct Golden {
     std::uint64_t chainHash;
 };
 const Golden kGolden[] = {
-    {"pyramid", 240, 0x3e32206539ae98bfull, 0x0ac980ddc3906becull},
-    {"restitution_row", 240, 0x247bf1c32e2eaabeull, 0x28c52fe964f18ce4ull},
-    {"mixed_pile", 300, 0xeec7078df60765d9ull, 0x1af5a9ccebfd0edeull},
-    {"cradle", 120, 0x547618ea65506e6eull, 0xc593de536b613679ull},
-    {"box_heap3d", 180, 0xa985ec030a2066e6ull, 0xdd1c2646b1f205cfull},
-    {"spheres3d", 180, 0x299fc5d46c75bdf6ull, 0x5a75023a682cd284ull},
-    {"bunnies3d", 240, 0xcfd2808a01bf4fd7ull, 0x43e99243c82ea962ull},
+    {"pyramid", 240, 0x4807540720e53385ull, 0x8ce994d4ca6223e9ull},
+    {"restitution_row", 240, 0x12fe4377294d95f5ull, 0x7c34b6c7ad159e49ull},
+    {"mixed_pile", 300, 0x523bc2239adeb30aull, 0x269aec3e8149c170ull},
+    {"cradle", 120, 0x16417eb2da4571faull, 0xf3c9013bb20806dbull},
+    {"box_heap3d", 180, 0x64662607b11160a7ull, 0x0f557352814cc366ull},
+    {"spheres3d", 180, 0xc50e48b53cd43b7bull, 0xfb58ee5f2fdd68d9ull},
+    {"bunnies3d", 240, 0xfbbcc16bba7040d3ull, 0x70d3bf24179a40feull},
 };
 // ==================================================================================================================
 
