@@ -123,7 +123,7 @@ struct World3::Hooks {
     BodyStore<BodyState3, BodyInfo3>& bodies() { return world.mBodies; }
     const WorldDef3& def() const { return world.mDef; }
     int frictionDirections() const { return D3::frictionDirectionCount(world.mDef.frictionDirections); }
-    double acceptResidual() const { return 0.0; }
+    double acceptResidual() const { return world.mDef.acceptResidual; }
     /// World-frame I^-1 = R I_b^-1 R^T.
     Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info) const {
         return rotateTensor(toMatrix(s.rotation), info.invInertia);

@@ -55,6 +55,10 @@ struct WorldDef3 {
     double linearSleepTolerance = 0.01;  ///< m/s
     double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
     double timeToSleep = 0.5;            ///< s
+    /// A friction solve that ends `numerical_failure` is still used when its scaled residual is at most this, as
+    /// in 2D (WorldDef2::acceptResidual); beyond it the island falls back to the frictionless LCP. It was 0 (never)
+    /// until the cube piles of bench_world3d showed such answers at 1.1e-9 to 1.2e-8 dropping their friction.
+    double acceptResidual = 1e-6;
     /// Per-island solver options; maxPivots 0 = 2n + 100 per island LCP. Unlike 2D, warm starts keep the
     /// `uniform` covering (LcpOptions::WarmCovering): on the cube piles of bench_world3d, `violated` took more
     /// pivots with 49-100 cubes (100: 11377 against 5818 over 300 steps, 5 failed islands against 0) and fewer

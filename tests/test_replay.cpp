@@ -40,9 +40,9 @@ const Golden kGolden[] = {
     {"restitution_row", 240, 0x12fe4377294d95f5ull, 0x7c34b6c7ad159e49ull},
     {"mixed_pile", 300, 0x523bc2239adeb30aull, 0x269aec3e8149c170ull},
     {"cradle", 120, 0x16417eb2da4571faull, 0xf3c9013bb20806dbull},
-    {"box_heap3d", 180, 0x64662607b11160a7ull, 0x0f557352814cc366ull},
-    {"spheres3d", 180, 0xc50e48b53cd43b7bull, 0xfb58ee5f2fdd68d9ull},
-    {"bunnies3d", 240, 0xfbbcc16bba7040d3ull, 0x70d3bf24179a40feull},
+    {"box_heap3d", 180, 0xd983e2835ebd1ce3ull, 0xcc4189cdda46531cull},
+    {"spheres3d", 180, 0x6684446e2a68afa2ull, 0x71f2e46f21b28981ull},
+    {"bunnies3d", 240, 0x23a74975e693dcb0ull, 0xe960eac784138519ull},
 };
 // ==================================================================================================================
 
