@@ -16,6 +16,9 @@ std::vector<GoldenScene> goldenScenes() {
         {"restitution_row", scenes::readSceneFile(dir + "restitution_row.json"), 240},
         {"mixed_pile", scenes::readSceneFile(dir + "mixed_pile.json"), 300},
         {"cradle", scenes::readSceneFile(dir + "cradle.json"), 120},
+        // A 16-row pyramid through its landing: blocks of 250-300 unknowns, so the solver's large-block paths
+        // (the LDL^T of the symmetric core, sparse LU, the Schur border of Lemke's block) are covered too.
+        {"pyramid16", scenes::pyramidScene(16, 0.5, false), 120},
         // The 3D world (issue 5): boxes tilted so they land on edges and topple into one heap, spheres bouncing
         // with e = 0..1, and two sphere-tree bunnies sliding down the paper's ramps (the mesh path).
         {"box_heap3d", scenes::boxPile3Scene(12, true, false), 180},

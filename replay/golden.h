@@ -21,7 +21,8 @@ struct GoldenScene {
 };
 
 /// The golden scenes: a 10-row testbed pyramid (sleep off, so every tick solves its LCP warm-started), the
-/// restitution row, a pile of circles, boxes and polygons in a box, the 5-ball cradle; in 3D a toppling box heap,
+/// restitution row, a pile of circles, boxes and polygons in a box, the 5-ball cradle, a 16-row pyramid's landing
+/// (the solver's large-block paths); in 3D a toppling box heap,
 /// bouncing spheres and two sphere-tree bunnies on the paper's ramps. Throws on a missing scene file.
 std::vector<GoldenScene> goldenScenes();
 

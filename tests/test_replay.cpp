@@ -40,6 +40,7 @@ const Golden kGolden[] = {
     {"restitution_row", 240, 0x12fe4377294d95f5ull, 0x7c34b6c7ad159e49ull},
     {"mixed_pile", 300, 0x523bc2239adeb30aull, 0x269aec3e8149c170ull},
     {"cradle", 120, 0x16417eb2da4571faull, 0xf3c9013bb20806dbull},
+    {"pyramid16", 120, 0xfb156dfc7bf9fea8ull, 0x033c23f14c63739aull},
     {"box_heap3d", 180, 0xd983e2835ebd1ce3ull, 0xcc4189cdda46531cull},
     {"spheres3d", 180, 0x6684446e2a68afa2ull, 0x71f2e46f21b28981ull},
     {"bunnies3d", 240, 0x23a74975e693dcb0ull, 0xe960eac784138519ull},
