@@ -21,7 +21,7 @@ namespace lcp_detail {
 
 constexpr double kTiny = 1e-300;
 
-// The rank-one correction every pivot applies to an explicit inverse: row q of inv -= c_q v (c_q negated when
+// The rank-one correction every pivot applies to the border's explicit inverse Sinv: row q of inv -= c_q v (c_q negated when
 // `negate`), for every row q < m except `skip`. On x86-64 GCC it is also built for AVX2, picked at load time. Each
 // element is one rounded product and one rounded difference in either clone (no FMA: the build contracts nothing),
 // so both give the same bits.
