@@ -21,10 +21,10 @@ namespace lcp_detail {
 
 constexpr double kTiny = 1e-300;
 
-// The rank-one correction every pivot applies to the border's explicit inverse Sinv: row q of inv -= c_q v (c_q negated when
-// `negate`), for every row q < m except `skip`. On x86-64 GCC it is also built for AVX2, picked at load time. Each
-// element is one rounded product and one rounded difference in either clone (no FMA: the build contracts nothing),
-// so both give the same bits.
+// The rank-one correction every pivot applies to the border's explicit inverse Sinv: row q of inv -= c_q v (c_q
+// negated when `negate`), for every row q < m except `skip`. On x86-64 GCC it is also built for AVX2, picked at
+// load time. Each element is one rounded product and one rounded difference in either clone (no FMA: the build
+// contracts nothing), so both give the same bits.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 __attribute__((target_clones("avx2", "default")))
 #endif
