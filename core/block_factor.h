@@ -139,7 +139,8 @@ private:
         for (Eigen::Index j = 0; j < M.cols(); ++j) {
             const int a0 = M.outerIndexPtr()[j], a1 = M.outerIndexPtr()[j + 1];
             const int t0 = T.outerIndexPtr()[j], t1 = T.outerIndexPtr()[j + 1];
-            const bool same = a1 - a0 == t1 - t0 && std::equal(M.innerIndexPtr() + a0, M.innerIndexPtr() + a1, T.innerIndexPtr() + t0) &&
+            const bool same = a1 - a0 == t1 - t0 &&
+                              std::equal(M.innerIndexPtr() + a0, M.innerIndexPtr() + a1, T.innerIndexPtr() + t0) &&
                               std::equal(M.valuePtr() + a0, M.valuePtr() + a1, T.valuePtr() + t0);
             if (!same) out.push_back(int(j));
         }
@@ -234,7 +235,8 @@ private:
         }
         std::vector<Eigen::Triplet<double>> sEntries;
         for (int r = 0; r < p; ++r) {
-            for (int t = 0; t < p; ++t) sEntries.emplace_back(r, t, S[std::size_t(r) * std::size_t(p) + std::size_t(t)]);
+            for (int t = 0; t < p; ++t)
+                sEntries.emplace_back(r, t, S[std::size_t(r) * std::size_t(p) + std::size_t(t)]);
         }
         if (!schur) schur = std::make_unique<BlockFactor>();
         if (!schur->factorEntries(p, sEntries)) return false;

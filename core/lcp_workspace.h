@@ -96,7 +96,9 @@ struct LemkeSolver::Workspace {
     // of the O(m^2) of an explicit inverse, and a warm start factorises its guess once instead of inverting it.
     // The border is folded into a fresh B0 when it grows past maxBorder().
     struct BorderEntry {
-        bool left;  // column: slack of R0 row idx (else column variable idx entered); row: C0 column idx left (else row idx entered)
+        // A column: the slack of R0 row idx when `left`, else column variable idx entered.
+        // A row: C0 column variable idx left when `left`, else row idx entered.
+        bool left;
         int idx;
     };
     int k0 = 0;
