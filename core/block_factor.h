@@ -79,11 +79,11 @@ public:
     /// x := A^-1 x (x has k entries).
     void solve(double* x) const {
         if (!dense) {
-            Eigen::Map<Eigen::VectorXd> v(x, k);
             if (useLdlt) {
                 solveBordered(x);
                 return;
             }
+            Eigen::Map<Eigen::VectorXd> v(x, k);
             const Eigen::VectorXd y = sparse.solve(v);
             v = y;
             return;
@@ -246,14 +246,18 @@ private:
 
     void solveBordered(double* x) const {
         const int p = bordered, kc = k - p;
-        Eigen::VectorXd rc(kc);
+        // Scratch kept between calls: this runs twice per Lemke pivot on a large block.
+        Eigen::VectorXd& rc = scratchCore;
+        Eigen::VectorXd& u = scratchSolution;
+        std::vector<double>& y = scratchBorder;
+        rc.resize(kc);
         for (int c = 0; c < kc; ++c) rc[c] = x[coreIdx[std::size_t(c)]];
-        Eigen::VectorXd u = ldlt.solve(rc);
+        u = ldlt.solve(rc);
         if (p == 0) {
             for (int c = 0; c < kc; ++c) x[coreIdx[std::size_t(c)]] = u[c];
             return;
         }
-        std::vector<double> y(static_cast<std::size_t>(p));
+        y.resize(std::size_t(p));
         for (int r = 0; r < p; ++r) {
             const double* e = E.data() + std::size_t(r) * std::size_t(kc);
             double acc = 0.0;
@@ -323,6 +327,8 @@ private:
     std::vector<Eigen::Triplet<double>> coreEntries;
     std::vector<double> E, G;
     std::unique_ptr<BlockFactor> schur;
+    mutable Eigen::VectorXd scratchCore, scratchSolution;
+    mutable std::vector<double> scratchBorder;
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
     Pattern ldltPattern;
 };
