@@ -169,11 +169,20 @@ private:
     // indices (at most kBorderMax) eliminated through the dense Schur complement S = F - E C^-1 Bc. False when
     // there are more of them or C is not positive definite (the caller uses the LU).
     static constexpr int kBorderMax = 32;
+
+public:
     // Blocks below this keep the LU. On the 3D cube piles of bench_world3d (islands of < 128 unknowns) the LDL^T
     // saved no measurable time, and the rounding-level differences of its answers took those chaotic piles over
     // 25 % more pivots in total over 7 pile sizes; on the 2D pyramids (one island of 250-500) it halves the
     // settled step (20 rows: 0.88 -> 0.51 ms).
     static constexpr int kSymmetricMin = 128;
+    /// Blocks of at least this many unknowns try the LDL^T of the symmetric core. The warm-start check lowers it
+    /// to kDenseMax + 1 for matrices with SparseLcp::symmetricHint (3D contacts): its block is factorised once and
+    /// solved twice, and Eigen's sparse LU zero-fills its panel and supernode workspaces on every factorisation,
+    /// 11 % of a settled 3D pile step's instructions under callgrind.
+    int symmetricMin = kSymmetricMin;
+
+private:
     bool symmetricCore(const Eigen::SparseMatrix<double>& M) {
         asymmetricIndices(M, borderIdx);
         const int p = int(borderIdx.size());
@@ -280,7 +289,7 @@ private:
         M.setFromTriplets(entries.begin(), entries.end());
         M.makeCompressed();
         nonZeros = std::uint64_t(M.nonZeros());
-        useLdlt = k >= kSymmetricMin && symmetricCore(M);
+        useLdlt = k >= symmetricMin && symmetricCore(M);
         if (useLdlt) return true;
         // A resting island checks the same pattern step after step: keep the fill-reducing ordering and symbolic
         // analysis while the pattern is unchanged (the numbers come out the same as a fresh compute()).

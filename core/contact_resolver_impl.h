@@ -53,26 +53,22 @@ bool isImmovable(const ResolverBody<D>& body) {
 // row's slot, 0 for A and 1 for B) and I_k^-1 r*_ki of each; row i's entries are then the merge of the row lists of
 // its two bodies. An entry shared by both bodies (two rows on the same pair) is summed in body index order, so every
 // A_ij is the same sum, in the same order, whether it is built densely (addTo) or in compressed rows (appendRow).
-// Appends compressed-row entries into storage sized beforehand to an upper bound (no per-entry growth checks);
-// finish() trims it to what was written.
+// Appends compressed-row entries into storage reserved beforehand to an upper bound (never reallocated; reserving
+// rather than resizing spares zero-filling the bound, which is often much more than is written).
 struct RowWriter {
     explicit RowWriter(SparseLcp& lcp, std::size_t bound) : lcp(lcp) {
-        lcp.cols.resize(bound);
-        lcp.vals.resize(bound);
+        lcp.cols.clear();
+        lcp.vals.clear();
+        lcp.cols.reserve(bound);
+        lcp.vals.reserve(bound);
     }
     void push(int j, double v) {
-        lcp.cols[size] = j;
-        lcp.vals[size] = v;
-        ++size;
+        lcp.cols.push_back(j);
+        lcp.vals.push_back(v);
     }
     int row(int i) const { return lcp.rowStart[std::size_t(i)]; }
-    void endRow(int i) { lcp.rowStart[std::size_t(i) + 1] = int(size); }
-    void finish() {
-        lcp.cols.resize(size);
-        lcp.vals.resize(size);
-    }
+    void endRow(int i) { lcp.rowStart[std::size_t(i) + 1] = int(lcp.cols.size()); }
     SparseLcp& lcp;
-    std::size_t size = 0;
 };
 
 template <class D>
@@ -86,6 +82,9 @@ public:
         }
         for (std::size_t k = 0; k < bodies.size(); ++k) mStart[k + 1] += mStart[k];
         std::vector<int> fill(mStart.begin(), mStart.end() - 1);
+        std::vector<typename D::InvInertia> factors;
+        factors.reserve(bodies.size());
+        for (const ResolverBody<D>& b : bodies) factors.push_back(D::couplingFactor(b.invInertia));
         mEntries.resize(std::size_t(mStart.back()));
         mRowEntry.resize(2 * rows.size());
         mBodyOf.resize(2 * rows.size());
@@ -94,8 +93,12 @@ public:
             for (int s = 0; s < 2; ++s) {
                 const int k = r.body[s];
                 const std::size_t e = std::size_t(fill[std::size_t(k)]++);
-                // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part in term().
-                mEntries[e] = {i, r.lin[s], r.ang[s], D::applyInvInertia(bodies[std::size_t(k)].invInertia, r.ang[s])};
+                // lambda_k = r*_ki^T I_k^-1, applied to the other row's angular part in term(), split into two
+                // halves (D::couplingHalves: in 3D both are L^T r*, which makes A exactly symmetric).
+                Entry& en = mEntries[e];
+                en.row = i;
+                en.lin = r.lin[s];
+                D::couplingHalves(factors[std::size_t(k)], r.ang[s], en.ang, en.invIr);
                 mRowEntry[2 * std::size_t(i) + std::size_t(s)] = int(e);
                 mBodyOf[2 * std::size_t(i) + std::size_t(s)] = k;
             }
@@ -195,9 +198,11 @@ public:
     }
 
 private:
-    // One row as seen by one of its bodies: its direction, r* l for that body, and I^-1 r* l.
+    // One row as seen by one of its bodies: its direction and the two halves of its angular part, whose product
+    // angDot(invIr_i, ang_j) is r*_i . I^-1 r*_j (D::couplingHalves: in 2D r* l and I^-1 r* l; in 3D L^T r* l both).
     struct Entry {
-        int row;
+        Entry() {}  // user-provided: resizing the entry list must not zero-fill what the constructor overwrites
+        int row = 0;
         typename D::Vec lin;
         typename D::Ang ang;
         typename D::Ang invIr;
@@ -339,9 +344,9 @@ SparseLcp assembleCollisionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
         coupling.appendRow(i, out, maxAbs, finite);
         out.endRow(i);
     }
-    out.finish();
     lcp.b = detail::normalRhsAll(bodies, contacts, options);
     lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
+    lcp.symmetricHint = D::kExactCoupling;
     return lcp;
 }
 
@@ -363,6 +368,7 @@ struct FrictionSystem {
     std::vector<JacobianRow<D>> rows;  // normal rows first, then the tangent rows of contact 0, 1, ...: J = [N ; D]
     std::vector<double> b;
     std::vector<double> mu;            // per contact
+    std::vector<typename D::Vec> dirs; // the tangent directions, contact c's at c * k (for composing the impulses)
 };
 
 template <class D>
@@ -377,12 +383,14 @@ FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies
     sys.rows = normalRows(bodies, contacts, std::size_t(nc) * std::size_t(k + 1));  // room for the tangent rows
     sys.b.assign(std::size_t(layout.size()), 0.0);
     sys.mu.resize(std::size_t(nc));
+    sys.dirs.reserve(std::size_t(nc) * std::size_t(k));
     for (int c = 0; c < nc; ++c) {
         const ContactNode<D>& node = contacts[std::size_t(c)];
         sys.b[std::size_t(c)] = normalRhs(bodies, node, options.restitutionThreshold);
         sys.mu[std::size_t(c)] = node.friction;
         for (int m = 0; m < k; ++m) {
             const typename D::Vec dir = D::tangentDirection(node.normal, m, k);  // as frictionDirections(node, k)
+            sys.dirs.push_back(dir);
             sys.rows.push_back(makeRow(bodies, node, dir));
             const double vt = relativeVelocityAlong(bodies, node, dir);
             sys.b[std::size_t(layout.tangentOffset() + c * k + m)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
@@ -484,8 +492,8 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
         }
         out.endRow(nr + c);
     }
-    out.finish();
     lcp.maxAbs = finite ? maxAbs : -1.0;  // rows built here: the solver need not check them again
+    lcp.symmetricHint = D::kExactCoupling;
     return lcp;
 }
 
@@ -564,6 +572,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, options);
     const FrictionLayout layout = sys.layout;
     detail::Coupling<D> coupling(ioBodies, sys.rows);
+    const std::vector<typename D::Vec> dirs = std::move(sys.dirs);
     LcpResult r;
     const std::vector<int>* guess = options.lcp.warmBasis;
     if (guess && !guess->empty()) {
@@ -596,7 +605,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     for (int c = 0; c < nc; ++c) {
         for (int m = 0; m < k; ++m) {
             const double beta = r.z[std::size_t(layout.tangentOffset() + c * k + m)];
-            const typename D::Vec dir = D::tangentDirection(contacts[std::size_t(c)].normal, m, k);
+            const typename D::Vec& dir = dirs[std::size_t(c * k + m)];
             tangent[std::size_t(c)] = D::add(tangent[std::size_t(c)], D::scale(beta, dir));
         }
     }

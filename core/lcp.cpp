@@ -69,6 +69,7 @@ bool trySparseBasis(LemkeSolver::Workspace& ws, const std::vector<int>& guess, c
     std::vector<int> pos(std::size_t(n), -1);
     for (int q = 0; q < k; ++q) pos[std::size_t(guess[std::size_t(q)])] = q;
     BlockFactor& lu = ws.blockFactor;
+    lu.symmetricMin = ws.symmetricHint ? BlockFactor::kDenseMax + 1 : BlockFactor::kSymmetricMin;
     if (!lu.factor(ws.rowStart, ws.rowCol, ws.rowVal, guess, pos)) return false;
     std::vector<double> z(static_cast<std::size_t>(k));
     for (int q = 0; q < k; ++q) z[std::size_t(q)] = -ws.b[guess[std::size_t(q)]];

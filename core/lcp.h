@@ -47,6 +47,11 @@ struct SparseLcp {
     /// matrices is max |A_ij| up to rounding). The solver then skips its O(nnz) check of A (it still checks sizes
     /// and b). Leave it at -1 for matrices built any other way.
     double maxAbs = -1.0;
+    /// A hint from an assembler whose A is symmetric bit for bit except in a few rows and columns (the 3D friction
+    /// LCP: its coupling block J M^-1 J^T is formed so, and only the friction slacks break the symmetry). A warm
+    /// start then factorises a guessed block of more than 48 unknowns by LDL^T instead of LU. It changes answers
+    /// only by rounding; a wrong hint costs time, never correctness (an asymmetric block falls back to the LU).
+    bool symmetricHint = false;
 };
 
 /// The nonzeros of a dense LCP in compressed rows.

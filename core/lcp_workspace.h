@@ -63,6 +63,7 @@ struct LemkeSolver::Workspace {
     std::vector<int> colStart, colRow, rowStart, rowCol;
     std::vector<double> colVal, rowVal;
     bool columnsReady = false;      // colStart/colRow/colVal match the rows (see ensureColumns)
+    bool symmetricHint = false;     // SparseLcp::symmetricHint of the problem taken over (takeSparse)
     BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
     int m = 0;
@@ -144,6 +145,7 @@ struct LemkeSolver::Workspace {
             rowStart[std::size_t(i) + 1] = int(rowCol.size());
         }
         columnsReady = false;
+        symmetricHint = false;
         return -1;
     }
 
@@ -195,6 +197,7 @@ struct LemkeSolver::Workspace {
         rowStart.swap(lcp.rowStart);
         rowCol.swap(lcp.cols);
         rowVal.swap(lcp.vals);
+        symmetricHint = lcp.symmetricHint;
         columnsReady = false;
         return {};
     }

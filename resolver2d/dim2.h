@@ -43,6 +43,15 @@ struct Dim2 {
     static Vec angularVelocityAt(const Ang& w, const Vec& r) { return unison::cross(w, r); }
     static Ang applyInvInertia(const InvInertia& invI, const Ang& a) { return invI * a; }
     static double angDot(const Ang& a, const Ang& b) { return a * b; }
+    /// The angular parts of two rows couple as angDot(right_i, left_j) (core/contact_resolver_impl.h, Coupling):
+    /// in 2D left = a and right = I^-1 a with the factor I^-1 itself.
+    static InvInertia couplingFactor(const InvInertia& invI) { return invI; }
+    /// (I^-1 a_i) a_j and (I^-1 a_j) a_i round differently: the 2D coupling block is not symmetric bit for bit.
+    static constexpr bool kExactCoupling = false;
+    static void couplingHalves(const InvInertia& factor, const Ang& a, Ang& left, Ang& right) {
+        left = a;
+        right = factor * a;
+    }
     static Vec scale(double s, const Vec& v) { return s * v; }
     static Vec add(const Vec& a, const Vec& b) { return a + b; }
     static Vec sub(const Vec& a, const Vec& b) { return a - b; }

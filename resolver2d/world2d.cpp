@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace unison {
 
@@ -123,6 +124,8 @@ struct World2::Hooks {
     const WorldDef2& def() const { return world.mDef; }
     int frictionDirections() const { return Dim2::frictionDirectionCount(2); }  // +t and -t: the exact 2D pyramid
     double acceptResidual() const { return world.mDef.acceptResidual; }
+    /// 2D keeps every speculative point the narrowphase returns (its targets were measured that way).
+    double speculativeBand() const { return std::numeric_limits<double>::infinity(); }
     double worldInvInertia(const BodyState2&, const BodyInfo2& info) const { return info.invInertia; }
 
     void integrate(int d, Vec2 v, double w, double dt) {

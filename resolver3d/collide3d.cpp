@@ -22,9 +22,12 @@ struct WorldPoly {
     Vec3 centroid;
 };
 
-WorldPoly place(const ConvexPolyhedron& p, const Transform3& xf) {
-    WorldPoly w;
+// Places p into w, reusing w's storage (polyPoly keeps one per thread: a pile calls it hundreds of times a step).
+void place(const ConvexPolyhedron& p, const Transform3& xf, WorldPoly& w) {
     w.poly = &p;
+    w.v.clear();
+    w.n.clear();
+    w.d.clear();
     for (const Vec3& v : p.vertices) w.v.push_back(transformPoint(xf, v));
     for (const auto& f : p.faces) {
         const Vec3 nw = mul(xf.r, f.normal);
@@ -32,7 +35,6 @@ WorldPoly place(const ConvexPolyhedron& p, const Transform3& xf) {
         w.d.push_back(f.offset + D3::dot(nw, xf.p));
     }
     w.centroid = transformPoint(xf, p.centroid);
-    return w;
 }
 
 Manifold3 swapped(Manifold3 m) {
@@ -166,10 +168,23 @@ struct EdgeQuery {
 };
 
 // Edge pairs whose Gauss-map arcs cross (they form a face of the Minkowski difference; Gregorius, GDC 2013).
+// B's arcs on the Gauss map of the Minkowski difference: per edge the negated face normals c, d and d x c (computed
+// once per edge, not once per edge pair).
+struct Arc {
+    Vec3 c, d, dxc;
+};
+
 EdgeQuery queryEdges(const WorldPoly& A, const WorldPoly& B) {
     EdgeQuery best;
     const auto& ea = A.poly->edges;
     const auto& eb = B.poly->edges;
+    thread_local std::vector<Arc> arcs;
+    arcs.clear();
+    for (const auto& e : eb) {
+        const Vec3 c = neg(B.n[std::size_t(e.face0)]);
+        const Vec3 d = neg(B.n[std::size_t(e.face1)]);
+        arcs.push_back({c, d, D3::cross(d, c)});
+    }
     for (int i = 0; i < int(ea.size()); ++i) {
         const Vec3& a = A.n[std::size_t(ea[std::size_t(i)].face0)];
         const Vec3& b = A.n[std::size_t(ea[std::size_t(i)].face1)];
@@ -177,11 +192,13 @@ EdgeQuery queryEdges(const WorldPoly& A, const WorldPoly& B) {
         const Vec3 da = D3::sub(pa1, pa0);
         const Vec3 bxa = D3::cross(b, a);
         for (int j = 0; j < int(eb.size()); ++j) {
-            const Vec3 c = neg(B.n[std::size_t(eb[std::size_t(j)].face0)]);
-            const Vec3 d = neg(B.n[std::size_t(eb[std::size_t(j)].face1)]);
-            const Vec3 dxc = D3::cross(d, c);
-            const double cba = D3::dot(c, bxa), dba = D3::dot(d, bxa), adc = D3::dot(a, dxc), bdc = D3::dot(b, dxc);
-            if (!(cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0)) continue;
+            const Vec3& c = arcs[std::size_t(j)].c;
+            const Vec3& d = arcs[std::size_t(j)].d;
+            const Vec3& dxc = arcs[std::size_t(j)].dxc;
+            const double cba = D3::dot(c, bxa), dba = D3::dot(d, bxa);
+            if (!(cba * dba < 0.0)) continue;  // most pairs end here; the other two products are not needed
+            const double adc = D3::dot(a, dxc), bdc = D3::dot(b, dxc);
+            if (!(adc * bdc < 0.0 && cba * bdc > 0.0)) continue;
             const Vec3 pb0 = B.v[std::size_t(eb[std::size_t(j)].v0)], pb1 = B.v[std::size_t(eb[std::size_t(j)].v1)];
             const Vec3 db = D3::sub(pb1, pb0);
             Vec3 axis = D3::cross(da, db);
@@ -221,7 +238,8 @@ Manifold3 clipFaces(const WorldPoly& ref, int refFace, const WorldPoly& inc, boo
             incFace = f;
         }
     }
-    std::vector<ClipVertex> poly, next;
+    thread_local std::vector<ClipVertex> poly, next;
+    poly.clear();
     for (int vi : inc.poly->faces[std::size_t(incFace)].loop) poly.push_back({inc.v[std::size_t(vi)], vi, 0xFF});
     const auto& loop = ref.poly->faces[std::size_t(refFace)].loop;
     for (std::size_t k = 0; k < loop.size() && !poly.empty(); ++k) {
@@ -241,7 +259,8 @@ Manifold3 clipFaces(const WorldPoly& ref, int refFace, const WorldPoly& inc, boo
         }
         poly.swap(next);
     }
-    std::vector<ManifoldPoint3> cands;
+    thread_local std::vector<ManifoldPoint3> cands;
+    cands.clear();
     const Vec3 normal = flip ? nRef : neg(nRef);  // from B towards A
     for (const ClipVertex& cv : poly) {
         const double sep = D3::dot(nRef, cv.p) - ref.d[std::size_t(refFace)];
@@ -274,7 +293,9 @@ Vec3 segmentsMidpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3
 
 Manifold3 polyPoly(const Shape3& a, const Transform3& xfA, const Shape3& b, const Transform3& xfB, double margin,
                    std::vector<ManifoldPoint3>* outCandidates) {
-    const WorldPoly A = place(*a.poly, xfA), B = place(*b.poly, xfB);
+    thread_local WorldPoly A, B;
+    place(*a.poly, xfA, A);
+    place(*b.poly, xfB, B);
     Manifold3 m;
     const FaceQuery fa = queryFaces(A, B);
     if (fa.sep >= margin) return m;
@@ -340,6 +361,11 @@ Manifold3 collide3d_detail::finish(const std::vector<ManifoldPoint3>& cands, std
     Manifold3 m;
     m.candidates = int(cands.size());
     if (outCandidates) outCandidates->insert(outCandidates->end(), cands.begin(), cands.end());
+    if (cands.size() <= 4) {  // nothing to reduce (reduceToFour would return a copy)
+        m.count = int(cands.size());
+        for (int i = 0; i < m.count; ++i) m.points[std::size_t(i)] = cands[std::size_t(i)];
+        return m;
+    }
     const std::vector<ManifoldPoint3> kept = reduceToFour(cands);
     m.count = int(kept.size());
     for (int i = 0; i < m.count; ++i) m.points[std::size_t(i)] = kept[std::size_t(i)];

@@ -37,6 +37,19 @@ struct Dim3 {
                     invI(2, 0) * a.x() + invI(2, 1) * a.y() + invI(2, 2) * a.z());
     }
     static double angDot(const Ang& a, const Ang& b) { return dot(a, b); }
+    /// The angular parts of two rows couple as angDot(right_i, left_j) (core/contact_resolver_impl.h, Coupling).
+    /// In 3D both halves are L^T a, L the Cholesky factor of I^-1 = L L^T (couplingFactor), so that the coupling
+    /// term is one dot product of two vectors and A_ij equals A_ji bit for bit (r_i . I^-1 r_j and r_j . I^-1 r_i
+    /// round differently): the LCP's contact block is then exactly symmetric and can be factorised by LDL^T.
+    static InvInertia couplingFactor(const InvInertia& invI);
+    /// The coupling block is symmetric bit for bit (SparseLcp::symmetricHint).
+    static constexpr bool kExactCoupling = true;
+    static void couplingHalves(const InvInertia& factor, const Ang& a, Ang& left, Ang& right) {
+        // L^T a, L lower triangular.
+        left = Vec3(factor(0, 0) * a.x() + factor(1, 0) * a.y() + factor(2, 0) * a.z(),
+                    factor(1, 1) * a.y() + factor(2, 1) * a.z(), factor(2, 2) * a.z());
+        right = left;
+    }
     static Vec scale(double s, const Vec& v) { return Vec3(s * v.x(), s * v.y(), s * v.z()); }
     static Vec add(const Vec& a, const Vec& b) { return Vec3(a.x() + b.x(), a.y() + b.y(), a.z() + b.z()); }
     static Vec sub(const Vec& a, const Vec& b) { return Vec3(a.x() - b.x(), a.y() - b.y(), a.z() - b.z()); }

@@ -3,6 +3,7 @@
 #include "det_math.h"
 #include "dim3.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace unison {
@@ -32,6 +33,27 @@ Dim3::Vec Dim3::tangentDirection(const Vec& n, int index, int k) {
         dir = add(scale(c, t1), scale(s, t2));
     }
     return index < half ? dir : scale(-1.0, dir);
+}
+
+// I^-1 = L L^T for the symmetric positive semi-definite world-frame inverse inertia (+ - * / sqrt only). A pivot
+// that is not positive (a rotation locked about some axis, or rounding at the level of the other entries) gives a
+// zero column: for a positive semi-definite matrix the rest of that column is zero too.
+Dim3::InvInertia Dim3::couplingFactor(const InvInertia& a) {
+    Mat3 l = Mat3::Zero();
+    const double tiny = 1e-14 * std::max(a(0, 0), std::max(a(1, 1), a(2, 2)));
+    for (int c = 0; c < 3; ++c) {
+        double d = a(c, c);
+        for (int k = 0; k < c; ++k) d -= l(c, k) * l(c, k);
+        if (!(d > tiny)) continue;
+        const double root = std::sqrt(d);
+        l(c, c) = root;
+        for (int r = c + 1; r < 3; ++r) {
+            double v = a(r, c);
+            for (int k = 0; k < c; ++k) v -= l(r, k) * l(c, k);
+            l(r, c) = v / root;
+        }
+    }
+    return l;
 }
 
 UNISON_INSTANTIATE_RESOLVER(Dim3)

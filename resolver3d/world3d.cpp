@@ -124,6 +124,7 @@ struct World3::Hooks {
     const WorldDef3& def() const { return world.mDef; }
     int frictionDirections() const { return D3::frictionDirectionCount(world.mDef.frictionDirections); }
     double acceptResidual() const { return world.mDef.acceptResidual; }
+    double speculativeBand() const { return world.mDef.speculativeBand; }
     /// World-frame I^-1 = R I_b^-1 R^T.
     Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info) const {
         return rotateTensor(toMatrix(s.rotation), info.invInertia);

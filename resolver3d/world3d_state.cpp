@@ -21,7 +21,7 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef3) == 176, "WorldDef3 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef3) == 184, "WorldDef3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field in transferState()");
@@ -222,8 +222,10 @@ void World3::transferState(Io& io, Self& world) {
     worldSettings(io, def, [&] {
         io.i32("frictionDirections", def.frictionDirections);
         io.f64("acceptResidual", def.acceptResidual);
+        io.f64("speculativeBand", def.speculativeBand);
         if constexpr (Io::kReading) {
             if (!(def.acceptResidual >= 0.0)) io.fail("def.acceptResidual must be >= 0");
+            if (std::isnan(def.speculativeBand)) io.fail("def.speculativeBand must not be NaN");
             // The warm-start masks hold k + 2 bits per contact in 32 (core/step_support.h): k <= 30.
             if (def.frictionDirections < 1 || def.frictionDirections > 30) io.fail("def.frictionDirections out of range");
         }

@@ -41,9 +41,9 @@ const Golden kGolden[] = {
     {"mixed_pile", 300, 0x523bc2239adeb30aull, 0x269aec3e8149c170ull},
     {"cradle", 120, 0x16417eb2da4571faull, 0xf3c9013bb20806dbull},
     {"pyramid16", 120, 0xfb156dfc7bf9fea8ull, 0x033c23f14c63739aull},
-    {"box_heap3d", 180, 0xd983e2835ebd1ce3ull, 0xcc4189cdda46531cull},
-    {"spheres3d", 180, 0x6684446e2a68afa2ull, 0x71f2e46f21b28981ull},
-    {"bunnies3d", 240, 0x23a74975e693dcb0ull, 0xe960eac784138519ull},
+    {"box_heap3d", 180, 0xc5e6f886a1484b61ull, 0xc1e6355cac487351ull},
+    {"spheres3d", 180, 0xdcaa02aca57045f2ull, 0x9cf091556a9f35cfull},
+    {"bunnies3d", 240, 0xb02b889e7437a492ull, 0x28e18b31f2940f26ull},
 };
 // ==================================================================================================================
 

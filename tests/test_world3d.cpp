@@ -303,6 +303,51 @@ TEST_CASE("a stack of 5 boxes settles, keeps its footprint and sleeps") {
     CHECK_FALSE(world.info(ids[4])->awake);
 }
 
+TEST_CASE("speculative band: resting neighbours 1.5 cm apart stay separate islands; fast approaches still close") {
+    // Two stacks of two 0.5 m cubes, 1.5 cm apart: their facing sides are within speculativeDistance (2 cm) but
+    // nothing moves them together, so the band keeps those points out of the LCP and the stacks are two islands.
+    // Keeping every point (band = 1 m) joins them into one island without changing the answer: a speculative point
+    // that stays open carries no impulse.
+    auto run = [](double band, int* islands, std::vector<Vec3>* centres) {
+        WorldDef3 def;
+        def.enableSleep = false;
+        def.speculativeBand = band;
+        World3 world(def);
+        addStatic(world, groundPlane());
+        std::vector<BodyId> ids;
+        for (int stack = 0; stack < 2; ++stack)
+            for (int level = 0; level < 2; ++level)
+                ids.push_back(addDynamic(world, boxShape(Vec3(0.25, 0.25, 0.25)), Vec3(0.515 * stack, 0.25 + 0.5 * level, 0)));
+        for (int i = 0; i < 120; ++i) world.step();
+        *islands = world.stats().islands;
+        for (const BodyId id : ids) centres->push_back(world.state(id)->center);
+        int across = 0;
+        for (const ContactPoint3& c : world.contacts()) across += std::fabs(c.normal.x()) > 0.9 ? 1 : 0;
+        return across;
+    };
+    int islandsBand = 0, islandsAll = 0;
+    std::vector<Vec3> band, all;
+    CHECK(run(0.01, &islandsBand, &band) == 0);
+    CHECK(run(1.0, &islandsAll, &all) > 0);
+    CHECK(islandsBand == 2);
+    CHECK(islandsAll == 1);
+    for (std::size_t i = 0; i < band.size(); ++i) CHECK((band[i] - all[i]).norm() < 1e-6);
+
+    // A cube thrown at 10 m/s at a wall 10 cm away (reach 0.17 m per step): the gap closes within the step, so its
+    // points are in the LCP from the start and it stops at the wall instead of sinking into it.
+    World3 world;
+    world.setGravity(Vec3::Zero());
+    addStatic(world, boxShape(Vec3(0.1, 1.0, 1.0)), Vec3(0.6, 0, 0));  // face at x = 0.5
+    const BodyId cube = addDynamic(world, boxShape(Vec3(0.25, 0.25, 0.25)), Vec3(0.15, 0, 0), Vec3(10, 0, 0));
+    double deepest = 0.0;
+    for (int i = 0; i < 30; ++i) {
+        world.step();
+        deepest = std::max(deepest, world.state(cube)->center.x() + 0.25 - 0.5);
+    }
+    CHECK(deepest <= world.def().linearSlop + 1e-9);
+    CHECK(world.state(cube)->velocity.x() <= 1e-9);
+}
+
 TEST_CASE("invalid bodies are rejected with a message and the world is unchanged") {
     World3 world;
     std::string error;
@@ -338,7 +383,7 @@ TEST_CASE("determinism: two runs give the same hash every step; the golden hash 
         REQUIRE(a.stateHash() == b.stateHash());
     }
     CHECK(a.stats().failedIslands == 0);
-    CHECK(a.stateHash() == 0xe6f89178f336c072ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
+    CHECK(a.stateHash() == 0x59fdc34b8a528fecull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
 }
 
 TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide off both ramps and rest on the ground") {
@@ -370,7 +415,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
         CHECK(s.center.y() > 0.05);
         CHECK(s.velocity.norm() < 0.05);
     }
-    CHECK(loaded.world->stateHash() == 0xaf151fed6563a8bcull);  // golden: the mesh path too (gcc 12 -O2; see above)
+    CHECK(loaded.world->stateHash() == 0x0a8cf86d9299100eull);  // golden: the mesh path too (gcc 12 -O2; see above)
 }
 
 TEST_CASE("events: a bouncing ball begins touching the ground once and ends once; bad velocities are refused") {
