@@ -25,6 +25,7 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -38,7 +39,8 @@ namespace {
 // Options a solve accepts (NaN fails every comparison, so it is out of range too).
 bool optionsInRange(const LcpOptions& o) {
     return o.pivotTolerance >= 0.0 && o.pivotTolerance < 1.0 && o.residualTolerance >= 0.0 &&
-           o.degeneracyPerturbation >= 0.0 && o.degeneracyPerturbation <= 1e-2 && o.maxPivots >= 0;
+           o.degeneracyPerturbation >= 0.0 && o.degeneracyPerturbation <= 1e-2 && o.maxPivots >= 0 &&
+           o.blockPivotRounds >= 0 && o.blockPivotRounds <= 8;
 }
 
 // A warm basis as a set: ascending, without repeats.
@@ -133,13 +135,24 @@ bool trySparseBasis(LemkeSolver::Workspace& ws, const std::vector<int>& guess, c
     return true;
 }
 
-// The guess, corrected up to three times by block principal pivoting (drop basic z's that came out negative, add
-// rows whose w came out negative): a resting scene's basis often differs from last step's by a few degenerate
-// unknowns that flipped sign by rounding, and a sparse solve per round is far cheaper than Lemke pivots.
+// The guess, corrected up to options.blockPivotRounds times by block principal pivoting (drop basic z's that came
+// out negative, add rows whose w came out negative): a small scene's basis often differs from last step's by a few
+// degenerate unknowns that flipped sign by rounding, and a sparse solve per round is cheaper than Lemke pivots.
 bool trySparseWarmStart(LemkeSolver::Workspace& ws, const std::vector<int>& guess, const LcpOptions& options,
                         double scale, LcpResult& out) {
     std::vector<int> current = guess, corrected;
-    for (int round = 0; round < 4; ++round) {
+    int first = 0;
+    LemkeSolver::Workspace::Refusal& refused = ws.refusal;
+    if (refused.valid && refused.guess == guess && refused.residualTolerance == options.residualTolerance &&
+        refused.b.size() == std::size_t(ws.n) && std::memcmp(refused.b.data(), ws.b, refused.b.size() * sizeof(double)) == 0) {
+        // checkGuess already did round 0 on this guess and b, with the same bits (its contract): take its result.
+        refused.valid = false;
+        if (refused.corrected.empty() || refused.corrected == current) return false;
+        current.swap(refused.corrected);
+        first = 1;
+    }
+    refused.valid = false;
+    for (int round = first; round <= options.blockPivotRounds; ++round) {
         if (trySparseBasis(ws, current, options, scale, out, corrected)) return true;
         if (corrected.empty() || corrected == current) return false;
         current.swap(corrected);
@@ -238,7 +251,14 @@ LcpResult LemkeSolver::checkGuess(SparseLcp&& guessColumns, const LcpOptions& op
     result.z.assign(std::size_t(n), 0.0);
     result.w.assign(b, b + n);
     std::vector<int> corrected;
+    ws.refusal.valid = false;
     if (trySparseBasis(ws, guess, options, scale, result, corrected)) return result;
+    // Kept for the solve that follows on the full matrix (trySparseWarmStart), so it need not repeat this round.
+    ws.refusal.valid = true;
+    ws.refusal.guess = guess;
+    ws.refusal.corrected.swap(corrected);
+    ws.refusal.b.assign(b, b + n);
+    ws.refusal.residualTolerance = options.residualTolerance;
     result.status = LcpStatus::pivot_limit;
     result.message = "the guess does not check out";
     return result;
@@ -256,7 +276,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
     }
     if (!optionsInRange(options)) {
         result.message = "LCP options out of range: need 0 <= pivotTolerance < 1, residualTolerance >= 0, "
-                         "0 <= degeneracyPerturbation <= 1e-2, maxPivots >= 0";
+                         "0 <= degeneracyPerturbation <= 1e-2, maxPivots >= 0, 0 <= blockPivotRounds <= 8";
         return result;
     }
     const int maxPivots = options.maxPivots > 0 ? options.maxPivots : LcpOptions::kDefaultMaxPivots;
@@ -284,6 +304,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
         inRange = guess.front() >= 0 && guess.back() < n;
         if (inRange && trySparseWarmStart(ws, guess, options, scale, result)) return result;
     }
+    ws.refusal.valid = false;  // a refused check is for the solve right after it only
     ws.rowIdx.assign(nn + 1, -1);
     ws.colVar.assign(nn + 1, -1);
     ws.posRow.assign(nn, -1);

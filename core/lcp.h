@@ -115,6 +115,12 @@ struct LcpOptions {
     /// problem family; see WorldDef2::lcp and WorldDef3::lcp for the measured choice of each world.
     enum class WarmCovering { uniform, violated };
     WarmCovering warmCovering = WarmCovering::uniform;
+    /// Block principal pivoting rounds of a warm start (0 to 8): when the guess does not check out, drop its basic
+    /// unknowns that came out negative, add the rows whose w came out negative, and check again, this many times
+    /// before Lemke's path starts from the guess. Each round is one factorisation. They pay off on small scenes
+    /// whose basis changes by a few unknowns; on the 2D pyramids and the 3D cube piles of the benchmarks no round
+    /// ever succeeded, and WorldDef3 turns them off.
+    int blockPivotRounds = 3;
 
     static constexpr int kDefaultMaxPivots = 100000;
 };

@@ -64,6 +64,15 @@ struct LemkeSolver::Workspace {
     std::vector<double> colVal, rowVal;
     bool columnsReady = false;      // colStart/colRow/colVal match the rows (see ensureColumns)
     bool symmetricHint = false;     // SparseLcp::symmetricHint of the problem taken over (takeSparse)
+    // A guess that checkGuess refused, with the b and tolerance it was checked against and the corrected guess its
+    // block principal round produced. The warm start of the next solve on the same guess and b begins at that
+    // correction instead of repeating the check (trySparseWarmStart); any solve consumes it.
+    struct Refusal {
+        bool valid = false;
+        std::vector<int> guess, corrected;
+        std::vector<double> b;
+        double residualTolerance = 0.0;
+    } refusal;
     BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
     int m = 0;

@@ -263,11 +263,13 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     io.f64("lcp.residualTolerance", def.lcp.residualTolerance);
     io.f64("lcp.degeneracyPerturbation", def.lcp.degeneracyPerturbation);
     enumeration(io, "lcp.warmCovering", def.lcp.warmCovering, int(LcpOptions::WarmCovering::violated));
+    io.i32("lcp.blockPivotRounds", def.lcp.blockPivotRounds);
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
         if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
         if (def.lcp.maxPivots < 0 || !(def.lcp.pivotTolerance >= 0.0 && def.lcp.pivotTolerance < 1.0) ||
-            def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0)
+            def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0 || def.lcp.blockPivotRounds < 0 ||
+            def.lcp.blockPivotRounds > 8)
             io.fail("def.lcp: options out of range");
     }
 }

@@ -165,13 +165,15 @@ TEST_CASE("solver options out of range are invalid input, never a crash") {
     p.b = {-1.0, -1.0};
     LemkeSolver solver;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (int k = 0; k < 5; ++k) {
+    for (int k = 0; k < 7; ++k) {
         LcpOptions o;
         if (k == 0) o.pivotTolerance = 1.0;
         if (k == 1) o.pivotTolerance = -1e-9;
         if (k == 2) o.residualTolerance = nan;
         if (k == 3) o.degeneracyPerturbation = -1e-7;
         if (k == 4) o.maxPivots = -1;
+        if (k == 5) o.blockPivotRounds = -1;
+        if (k == 6) o.blockPivotRounds = 9;
         const LcpResult r = solver.solve(p, o);
         CHECK(r.status == LcpStatus::invalid_input);
         CHECK(r.message.find("options") != std::string::npos);

@@ -505,6 +505,21 @@ void checkGuessAgainstSolve(const SparseLcp& full) {
         const LcpResult whole = solver.solve(full, options);
         CHECK(whole.status == LcpStatus::solved);  // a pile has many solutions: any one will do
         CHECK(whole.scaledResidual <= options.residualTolerance);
+        // The solve after a refused check starts from the check's own correction instead of repeating it: the
+        // same bits as a solver that never saw the check, with every number of block principal rounds.
+        for (int rounds = 0; rounds <= 3; ++rounds) {
+            CAPTURE(rounds);
+            options.blockPivotRounds = rounds;
+            LemkeSolver fresh;
+            const LcpResult reference = fresh.solve(full, options);
+            CHECK(solver.checkGuess(columnsOf(wrong), options).status == LcpStatus::pivot_limit);
+            const LcpResult after = solver.solve(full, options);
+            CHECK(after.status == reference.status);
+            CHECK(after.pivots == reference.pivots);
+            REQUIRE(after.z.size() == reference.z.size());
+            CHECK(std::memcmp(after.z.data(), reference.z.data(), after.z.size() * sizeof(double)) == 0);
+            CHECK(after.scaledResidual <= options.residualTolerance);
+        }
     }
     SUBCASE("no voucher, no guess or a guess out of range: refused, nothing solved") {
         SparseLcp unvouched = columnsOf(cold.basis);
