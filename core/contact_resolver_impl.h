@@ -173,6 +173,36 @@ public:
         }
     }
 
+    /// out[i] = (J M^-1 J^T z)_i for every row i, through per-body sums M_k^-1 J_k^T z (O(entries), not
+    /// O(entries^2) as the rows themselves): the matrix-free product of LemkeSolver::checkGuess. Equal to the rows'
+    /// products up to rounding (the sums run in another order).
+    void multiply(const double* z, double* out) const {
+        const std::size_t nb = mBodies.size();
+        std::vector<typename D::Vec> lin(nb, D::zeroVec());
+        std::vector<typename D::Ang> ang(nb, D::zeroAng());
+        for (std::size_t k = 0; k < nb; ++k) {
+            if (!movable(int(k))) continue;
+            for (int e = mStart[k]; e < mStart[k + 1]; ++e) {
+                const Entry& en = mEntries[std::size_t(e)];
+                const double zj = z[en.row];
+                if (zj == 0.0) continue;
+                lin[k] = D::add(lin[k], D::scale(zj, en.lin));
+                ang[k] = D::angAdd(ang[k], D::angScale(zj, en.ang));
+            }
+        }
+        for (std::size_t i = 0; 2 * i < mBodyOf.size(); ++i) {
+            double v = 0.0;
+            for (int s = 0; s < 2; ++s) {
+                const int k = mBodyOf[2 * i + std::size_t(s)];
+                if (!movable(k)) continue;
+                const Entry& en = mEntries[std::size_t(mRowEntry[2 * i + std::size_t(s)])];
+                v += mBodies[std::size_t(k)].invMass * D::dot(en.lin, lin[std::size_t(k)]) +
+                     D::angDot(en.invIr, ang[std::size_t(k)]);
+            }
+            out[i] = v;
+        }
+    }
+
     /// A_ii, the same sum appendRow forms for column i of row i.
     double diagonal(int i) const {
         const int a = mBodyOf[2 * std::size_t(i)], b = mBodyOf[2 * std::size_t(i) + 1];
@@ -451,7 +481,8 @@ namespace detail {
 // alone, so the part and the whole carry the same voucher, and equal to max |A_ij| up to rounding (the coupling
 // block is a Gram matrix: |A_ij| <= sqrt(A_ii A_jj)).
 template <class D, bool Restricted>
-SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& coupling, const char* keep) {
+SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& coupling, const char* keep,
+                            const char* keepRows = nullptr) {
     const FrictionLayout& layout = sys.layout;
     const int nc = layout.contacts, k = layout.directions, nr = int(sys.rows.size());
     SparseLcp lcp;
@@ -462,10 +493,21 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
     const std::size_t bound = coupling.template entryBound<Restricted>() + std::size_t(nc) * std::size_t(2 * k + 1);
     RowWriter out(lcp, bound);
     auto kept = [&](int j) { return !Restricted || keep[j] != 0; };
+    auto rowKept = [&](int i) { return !keepRows || keepRows[i] != 0; };
     for (int i = 0; i < nr; ++i) {
         const int slack = i >= layout.tangentOffset() ? layout.slackOffset() + (i - layout.tangentOffset()) / k : -1;
         const int partner = slack >= 0 ? negatedEarlierRow(sys.rows, i, layout) : -1;
-        if (partner >= 0) {
+        if (!rowKept(i)) {
+            // Not written (checkGuess with a product needs only the guessed rows); the scale still counts it.
+            if (partner < 0) {
+                const double d = std::fabs(coupling.diagonal(i));
+                finite = finite && d <= std::numeric_limits<double>::max();
+                maxAbs = d > maxAbs ? d : maxAbs;
+            }
+            out.endRow(i);
+            continue;
+        }
+        if (partner >= 0 && rowKept(partner)) {
             // Row i is exactly -1 times an earlier tangent row of its contact (+t / -t pairs): every coupling term
             // is that row's term negated, bit for bit (negation is exact, and so are the products and sums of
             // negated values), so copy them rather than recompute. The partner's slack column is not copied.
@@ -483,12 +525,13 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
         out.endRow(i);
     }
     for (int c = 0; c < nc; ++c) {
+        const bool written = rowKept(nr + c);
         if (sys.mu[std::size_t(c)] != 0.0) {
-            if (kept(c)) out.push(c, sys.mu[std::size_t(c)]);
+            if (written && kept(c)) out.push(c, sys.mu[std::size_t(c)]);
             maxAbs = std::max(maxAbs, sys.mu[std::size_t(c)]);  // mu is finite and >= 0 (validate)
         }
         for (int m = 0; m < k; ++m) {
-            if (kept(layout.tangentOffset() + c * k + m)) out.push(layout.tangentOffset() + c * k + m, -1.0);
+            if (written && kept(layout.tangentOffset() + c * k + m)) out.push(layout.tangentOffset() + c * k + m, -1.0);
         }
         out.endRow(nr + c);
     }
@@ -585,7 +628,28 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             inRange = inRange && j >= 0 && j < layout.size();
             if (inRange) keep[std::size_t(j)] = 1;
         }
-        if (inRange) {
+        if (inRange && D::kMatrixFreeCheck) {
+            // Only the guess's block of A, and w on every row as J (M^-1 (J^T z)) (Coupling::multiply): the other
+            // rows of A's guessed columns are never formed.
+            coupling.keepColumns(keep.data());
+            SparseLcp block = detail::writeFrictionRows<D, true>(sys, coupling, keep.data(), keep.data());
+            block.b = sys.b;
+            const int nr = int(sys.rows.size()), nc = layout.contacts, k = layout.directions;
+            const LemkeSolver::Product product = [&](const double* z, double* w) {
+                coupling.multiply(z, w);
+                for (int i = 0; i < nr; ++i) {
+                    double s = w[i] + sys.b[std::size_t(i)];
+                    if (i >= layout.tangentOffset()) s += z[layout.slackOffset() + (i - layout.tangentOffset()) / k];
+                    w[i] = s;
+                }
+                for (int c = 0; c < nc; ++c) {  // w_lambda = mu f_n - sum beta (+ b, which is 0)
+                    double s = sys.b[std::size_t(nr + c)] + sys.mu[std::size_t(c)] * z[c];
+                    for (int m = 0; m < k; ++m) s -= z[layout.tangentOffset() + c * k + m];
+                    w[nr + c] = s;
+                }
+            };
+            r = solver.checkGuess(std::move(block), options.lcp, product);
+        } else if (inRange) {
             coupling.keepColumns(keep.data());
             SparseLcp part = detail::writeFrictionRows<D, true>(sys, coupling, keep.data());
             part.b = sys.b;

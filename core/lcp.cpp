@@ -86,7 +86,14 @@ bool trySparseBasis(LemkeSolver::Workspace& ws, const std::vector<int>& guess, c
         }
         return s;
     };
+    std::vector<double> zFull;
     auto computeW = [&]() {
+        if (ws.product) {
+            zFull.assign(std::size_t(n), 0.0);
+            for (int q = 0; q < k; ++q) zFull[std::size_t(guess[std::size_t(q)])] = z[std::size_t(q)];
+            (*ws.product)(zFull.data(), w.data());
+            return;
+        }
         for (int i = 0; i < n; ++i) w[std::size_t(i)] = rowW(i);
     };
     // One step of iterative refinement: w_alpha should be exactly 0 (only those rows are needed for it).
@@ -145,7 +152,8 @@ bool trySparseWarmStart(LemkeSolver::Workspace& ws, const std::vector<int>& gues
     LemkeSolver::Workspace::Refusal& refused = ws.refusal;
     if (refused.valid && refused.guess == guess && refused.residualTolerance == options.residualTolerance &&
         refused.b.size() == std::size_t(ws.n) && std::memcmp(refused.b.data(), ws.b, refused.b.size() * sizeof(double)) == 0) {
-        // checkGuess already did round 0 on this guess and b, with the same bits (its contract): take its result.
+        // checkGuess already did round 0 on this guess and b, with the same bits (its contract; with a product, up
+        // to the rounding of w): take its result.
         refused.valid = false;
         if (refused.corrected.empty() || refused.corrected == current) return false;
         current.swap(refused.corrected);
@@ -217,6 +225,14 @@ LcpResult LemkeSolver::solve(SparseLcp&& problem, const LcpOptions& options) {
     if (!result.message.empty()) return result;
     ws.bStore.swap(problem.b);
     return run(ws, ws.bStore.data(), options);
+}
+
+LcpResult LemkeSolver::checkGuess(SparseLcp&& guessBlock, const LcpOptions& options, const Product& product) {
+    Workspace& ws = workspace();
+    ws.product = &product;
+    LcpResult result = checkGuess(std::move(guessBlock), options);
+    ws.product = nullptr;
+    return result;
 }
 
 LcpResult LemkeSolver::checkGuess(SparseLcp&& guessColumns, const LcpOptions& options) {

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -176,6 +177,15 @@ public:
     /// done, and the caller solves the full problem (whose warm start may still correct the guess).
     /// `guessColumns` is taken over.
     LcpResult checkGuess(SparseLcp&& guessColumns, const LcpOptions& options);
+
+    /// w = A z + b for every row, given z (n entries, zero outside the guess), written to w (n entries).
+    using Product = std::function<void(const double* z, double* w)>;
+    /// The same check from still less of A: `guessBlock` needs only the guessed rows' entries in the guessed
+    /// columns (its other rows may be empty; maxAbs vouched for as above), and `product` gives w on every row
+    /// (an assembler can form it as J (M^-1 (J^T z)) in O(nnz(J))). z comes from the same factorisation as in
+    /// solve(), but w is the product's: answers agree with solve()'s up to the rounding of w, and a guess whose
+    /// w is within rounding of the tolerances may be accepted or refused differently.
+    LcpResult checkGuess(SparseLcp&& guessBlock, const LcpOptions& options, const Product& product);
 
     /// Per-solve state (defined in lcp.cpp); public only so that lcp.cpp's helpers can name it.
     struct Workspace;

@@ -73,6 +73,7 @@ struct LemkeSolver::Workspace {
         std::vector<double> b;
         double residualTolerance = 0.0;
     } refusal;
+    const LemkeSolver::Product* product = nullptr;  // checkGuess's w (set only during that call)
     BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
     int m = 0;

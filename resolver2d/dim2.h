@@ -48,6 +48,9 @@ struct Dim2 {
     static InvInertia couplingFactor(const InvInertia& invI) { return invI; }
     /// (I^-1 a_i) a_j and (I^-1 a_j) a_i round differently: the 2D coupling block is not symmetric bit for bit.
     static constexpr bool kExactCoupling = false;
+    /// Warm guesses are checked on A's guessed columns (LemkeSolver::checkGuess without a product): the 2D targets
+    /// were measured so, and the answers are those of solve() bit for bit.
+    static constexpr bool kMatrixFreeCheck = false;
     static void couplingHalves(const InvInertia& factor, const Ang& a, Ang& left, Ang& right) {
         left = a;
         right = factor * a;

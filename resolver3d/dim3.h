@@ -44,6 +44,9 @@ struct Dim3 {
     static InvInertia couplingFactor(const InvInertia& invI);
     /// The coupling block is symmetric bit for bit (SparseLcp::symmetricHint).
     static constexpr bool kExactCoupling = true;
+    /// Warm guesses are checked from the guess's block of A and w = J M^-1 J^T z + ... formed per body
+    /// (LemkeSolver::checkGuess with a product): the guessed columns of all the other rows are never built.
+    static constexpr bool kMatrixFreeCheck = true;
     static void couplingHalves(const InvInertia& factor, const Ang& a, Ang& left, Ang& right) {
         // L^T a, L lower triangular.
         left = Vec3(factor(0, 0) * a.x() + factor(1, 0) * a.y() + factor(2, 0) * a.z(),

@@ -521,6 +521,48 @@ void checkGuessAgainstSolve(const SparseLcp& full) {
             CHECK(after.scaledResidual <= options.residualTolerance);
         }
     }
+    SUBCASE("from the guess's block and a product for w: the same z; a product that breaks a row refuses") {
+        options.warmBasis = &cold.basis;
+        const LcpResult whole = solver.solve(full, options);
+        std::vector<char> inGuess(std::size_t(full.n), 0);
+        for (int j : cold.basis) inGuess[std::size_t(j)] = 1;
+        auto blockOnly = [&]() {
+            SparseLcp block = columnsOf(cold.basis);
+            SparseLcp out = block;
+            out.cols.clear();
+            out.vals.clear();
+            out.rowStart.assign(1, 0);
+            for (int i = 0; i < full.n; ++i) {
+                for (int t = block.rowStart[std::size_t(i)]; t < block.rowStart[std::size_t(i) + 1] && inGuess[std::size_t(i)]; ++t) {
+                    out.cols.push_back(block.cols[std::size_t(t)]);
+                    out.vals.push_back(block.vals[std::size_t(t)]);
+                }
+                out.rowStart.push_back(int(out.cols.size()));
+            }
+            return out;
+        };
+        double shift = 0.0;  // added to one non-basic row's w: a large negative shift makes the guess wrong
+        const LemkeSolver::Product product = [&](const double* z, double* w) {
+            for (int i = 0; i < full.n; ++i) {
+                double s = full.b[std::size_t(i)];
+                for (int t = full.rowStart[std::size_t(i)]; t < full.rowStart[std::size_t(i) + 1]; ++t)
+                    s += full.vals[std::size_t(t)] * z[full.cols[std::size_t(t)]];
+                w[i] = s;
+            }
+            for (int i = 0; i < full.n; ++i) {
+                if (!inGuess[std::size_t(i)]) {
+                    w[i] += shift;
+                    break;
+                }
+            }
+        };
+        const LcpResult part = solver.checkGuess(blockOnly(), options, product);
+        REQUIRE(part.status == LcpStatus::solved);
+        CHECK(std::memcmp(part.z.data(), whole.z.data(), whole.z.size() * sizeof(double)) == 0);
+        CHECK(part.basis == whole.basis);
+        shift = -1.0;
+        CHECK(solver.checkGuess(blockOnly(), options, product).status == LcpStatus::pivot_limit);
+    }
     SUBCASE("no voucher, no guess or a guess out of range: refused, nothing solved") {
         SparseLcp unvouched = columnsOf(cold.basis);
         unvouched.maxAbs = -1.0;
