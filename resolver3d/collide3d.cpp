@@ -3,6 +3,8 @@
 #include "collide3d_detail.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <cmath>
 
 namespace unison {
@@ -291,11 +293,51 @@ Vec3 segmentsMidpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3
     return D3::scale(0.5, D3::add(pa, pb));
 }
 
+// The last few polyhedra placed (per thread, while a CollideBatch lives): a body meets several neighbours in a row
+// of broadphase pairs, and a pile's cube is placed once for all of them. An entry is reused only for the same
+// polyhedron and the same transform bits, so it holds exactly what place() would compute; the batch empties it, so
+// a polyhedron freed and another allocated at its address in a later step is never mistaken for it.
+class PlacedCache {
+public:
+    void clear() {
+        for (Slot& s : mSlots) s.placed.poly = nullptr;
+        mNext = 0;
+    }
+
+    /// The placed polyhedron; never evicts `keep` (the other polyhedron of the pair, still in use).
+    const WorldPoly& get(const ConvexPolyhedron& p, const Transform3& xf, const WorldPoly* keep = nullptr) {
+        for (Slot& s : mSlots) {
+            if (s.placed.poly == &p && std::memcmp(&s.xf, &xf, sizeof xf) == 0) return s.placed;
+        }
+        if (&mSlots[mNext].placed == keep) mNext = (mNext + 1) % kSlots;
+        Slot& s = mSlots[mNext];
+        mNext = (mNext + 1) % kSlots;
+        s.xf = xf;
+        place(p, xf, s.placed);
+        return s.placed;
+    }
+
+private:
+    static constexpr std::size_t kSlots = 8;
+    struct Slot {
+        Transform3 xf;
+        WorldPoly placed;
+    };
+    std::array<Slot, kSlots> mSlots{};
+    std::size_t mNext = 0;
+};
+
+thread_local PlacedCache* tBatchCache = nullptr;  // set while a CollideBatch lives on this thread
+
 Manifold3 polyPoly(const Shape3& a, const Transform3& xfA, const Shape3& b, const Transform3& xfB, double margin,
                    std::vector<ManifoldPoint3>* outCandidates) {
-    thread_local WorldPoly A, B;
-    place(*a.poly, xfA, A);
-    place(*b.poly, xfB, B);
+    thread_local WorldPoly placedA, placedB;
+    if (!tBatchCache) {
+        place(*a.poly, xfA, placedA);
+        place(*b.poly, xfB, placedB);
+    }
+    const WorldPoly& A = tBatchCache ? tBatchCache->get(*a.poly, xfA) : placedA;
+    const WorldPoly& B = tBatchCache ? tBatchCache->get(*b.poly, xfB, &A) : placedB;
     Manifold3 m;
     const FaceQuery fa = queryFaces(A, B);
     if (fa.sep >= margin) return m;
@@ -356,6 +398,14 @@ Manifold3 againstPlane(const Shape3& a, const Transform3& xfA, const Shape3& b, 
 bool isPoly(const Shape3& s) { return s.type == ShapeType3::box || s.type == ShapeType3::hull; }
 
 }  // namespace
+
+CollideBatch::CollideBatch() {
+    thread_local PlacedCache cache;
+    cache.clear();
+    tBatchCache = &cache;
+}
+
+CollideBatch::~CollideBatch() { tBatchCache = nullptr; }
 
 Manifold3 collide3d_detail::finish(const std::vector<ManifoldPoint3>& cands, std::vector<ManifoldPoint3>* outCandidates) {
     Manifold3 m;

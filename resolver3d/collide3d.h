@@ -43,6 +43,18 @@ struct Manifold3 {
 Manifold3 collide(const Shape3& a, const Transform3& xfA, const Shape3& b, const Transform3& xfB,
                   double speculativeDistance, std::vector<ManifoldPoint3>* outCandidates = nullptr);
 
+/// While one of these lives (at most one per thread at a time), collide() remembers the last few polyhedra it
+/// placed in the world and reuses a placement for the same polyhedron and the same transform bits: a pile's cube
+/// meets several neighbours in a row of broadphase pairs. World3::step opens one per step (shapes do not change
+/// within a step). The answers are the same bits with or without it.
+class CollideBatch {
+public:
+    CollideBatch();
+    ~CollideBatch();
+    CollideBatch(const CollideBatch&) = delete;
+    CollideBatch& operator=(const CollideBatch&) = delete;
+};
+
 /// The paper's reduction: of many candidate points keep at most 4 — the deepest, then the one farthest from it,
 /// then the one that makes the largest triangle, then the one that adds the most area. Only points that overlap or
 /// lie within 5 mm of the deepest compete for the area (speculative points farther out would span a support that

@@ -151,6 +151,7 @@ struct World3::Hooks {
 void World3::step() {
     mCandidates.clear();
     Hooks hooks{*this};
+    const CollideBatch batch;  // polyhedra placed once per step for all their pairs
     mStep.run(hooks);
     mContactPoints.clear();
     for (const StepContact<Dim3>& c : mStep.contacts())

@@ -6,6 +6,9 @@
 #include "collide3d.h"
 
 #include <cmath>
+#include <cstring>
+#include <memory>
+#include <vector>
 
 using namespace unison;
 
@@ -99,6 +102,51 @@ TEST_CASE("reduceToFour keeps the deepest point and spans the largest area") {
     for (std::size_t i = 1; i < 4; ++i) {
         const Vec3& p = r[i].point;
         CHECK(((p.x() == 0 || p.x() == 4) && (p.z() == 0 || p.z() == 4)));
+    }
+}
+
+TEST_CASE("a CollideBatch reuses placements without changing a bit; a new batch forgets the old shapes") {
+    // A row of pairs that share boxes (as a pile's broadphase gives them), with and without a batch.
+    const Shape3 small = box(0.5), big = box(1.0);
+    const Quat turn = axisAngle(Vec3(0, 1, 0), 0.1);
+    std::vector<Transform3> xf;
+    for (int i = 0; i < 12; ++i) xf.push_back(at(Vec3(0.3 * i, 0.99 * (i % 3), 0.05 * i), i % 2 ? turn : Quat{}));
+    auto runAll = [&](std::vector<Manifold3>& out) {
+        for (int i = 0; i < 12; ++i)
+            for (int j = 0; j < 12; ++j)
+                if (i != j) out.push_back(collide(i % 4 ? small : big, xf[std::size_t(i)], j % 4 ? small : big, xf[std::size_t(j)], 0.02));
+    };
+    std::vector<Manifold3> plain, batched;
+    runAll(plain);
+    {
+        const CollideBatch batch;
+        runAll(batched);
+    }
+    REQUIRE(plain.size() == batched.size());
+    int touching = 0;
+    for (std::size_t k = 0; k < plain.size(); ++k) {
+        REQUIRE(plain[k].count == batched[k].count);
+        touching += plain[k].count > 0 ? 1 : 0;
+        for (int p = 0; p < plain[k].count; ++p) {
+            const ManifoldPoint3& u = plain[k].points[std::size_t(p)];
+            const ManifoldPoint3& v = batched[k].points[std::size_t(p)];
+            CHECK(std::memcmp(&u.point, &v.point, sizeof u.point) == 0);
+            CHECK(std::memcmp(&u.normal, &v.normal, sizeof u.normal) == 0);
+            CHECK(u.separation == v.separation);
+            CHECK(u.id == v.id);
+        }
+    }
+    CHECK(touching > 0);
+    // A shape destroyed after one batch and another built at the same place in the next: never taken for it.
+    {
+        const CollideBatch batch;
+        auto first = std::make_unique<Shape3>(box(0.5));
+        CHECK(collide(*first, at(Vec3(0, 1.6, 0)), big, at(Vec3::Zero()), 0.02).count == 0);
+    }
+    {
+        const CollideBatch batch;
+        const Shape3 larger = box(0.8);  // overlaps the big box from the same transform
+        CHECK(collide(larger, at(Vec3(0, 1.6, 0)), big, at(Vec3::Zero()), 0.02).count == 4);
     }
 }
 
