@@ -14,6 +14,7 @@
 #include "world3d.h"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -252,6 +253,12 @@ TEST_CASE("corrupt, truncated and foreign 3D snapshots are rejected and the live
     def = WorldDef3{};
     def.lcp.pivotTolerance = 1.0;
     rejected(World3(def).snapshot(), "def.lcp");
+    def = WorldDef3{};
+    def.lcp.blockPivotRounds = 9;
+    rejected(World3(def).snapshot(), "def.lcp");
+    def = WorldDef3{};
+    def.speculativeBand = std::numeric_limits<double>::quiet_NaN();
+    rejected(World3(def).snapshot(), "speculativeBand");
     // Payload bits flipped behind a valid checksum (fixed positions): each is rejected (a count, an index, an enum,
     // a non-finite or out-of-range value, a mesh that makeMesh refuses) or read back exactly as written.
     std::uint64_t lcg = 777;
