@@ -495,18 +495,17 @@ SparseLcp writeFrictionRows(const FrictionSystem<D>& sys, const Coupling<D>& cou
     auto kept = [&](int j) { return !Restricted || keep[j] != 0; };
     auto rowKept = [&](int i) { return !keepRows || keepRows[i] != 0; };
     for (int i = 0; i < nr; ++i) {
-        const int slack = i >= layout.tangentOffset() ? layout.slackOffset() + (i - layout.tangentOffset()) / k : -1;
-        const int partner = slack >= 0 ? negatedEarlierRow(sys.rows, i, layout) : -1;
         if (!rowKept(i)) {
-            // Not written (checkGuess with a product needs only the guessed rows); the scale still counts it.
-            if (partner < 0) {
-                const double d = std::fabs(coupling.diagonal(i));
-                finite = finite && d <= std::numeric_limits<double>::max();
-                maxAbs = d > maxAbs ? d : maxAbs;
-            }
+            // Not written (checkGuess with a product needs only the guessed rows); the scale still counts it. No
+            // search for a negated partner row: its diagonal would be this one's, bit for bit.
+            const double d = std::fabs(coupling.diagonal(i));
+            finite = finite && d <= std::numeric_limits<double>::max();
+            maxAbs = d > maxAbs ? d : maxAbs;
             out.endRow(i);
             continue;
         }
+        const int slack = i >= layout.tangentOffset() ? layout.slackOffset() + (i - layout.tangentOffset()) / k : -1;
+        const int partner = slack >= 0 ? negatedEarlierRow(sys.rows, i, layout) : -1;
         if (partner >= 0 && rowKept(partner)) {
             // Row i is exactly -1 times an earlier tangent row of its contact (+t / -t pairs): every coupling term
             // is that row's term negated, bit for bit (negation is exact, and so are the products and sums of
@@ -628,10 +627,10 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             inRange = inRange && j >= 0 && j < layout.size();
             if (inRange) keep[std::size_t(j)] = 1;
         }
+        if (inRange) coupling.keepColumns(keep.data());
         if (inRange && D::kMatrixFreeCheck) {
             // Only the guess's block of A, and w on every row as J (M^-1 (J^T z)) (Coupling::multiply): the other
             // rows of A's guessed columns are never formed.
-            coupling.keepColumns(keep.data());
             SparseLcp block = detail::writeFrictionRows<D, true>(sys, coupling, keep.data(), keep.data());
             block.b = sys.b;
             const int nr = int(sys.rows.size()), nc = layout.contacts, k = layout.directions;
@@ -650,7 +649,6 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             };
             r = solver.checkGuess(std::move(block), options.lcp, product);
         } else if (inRange) {
-            coupling.keepColumns(keep.data());
             SparseLcp part = detail::writeFrictionRows<D, true>(sys, coupling, keep.data());
             part.b = sys.b;
             r = solver.checkGuess(std::move(part), options.lcp);
