@@ -93,6 +93,7 @@ struct Resolution {
     double scaledResidual = 0.0;
     bool approximate = false;      ///< the impulses are a `numerical_failure` answer accepted by acceptResidual
     bool fastPath = false;         ///< true when the single-contact closed form was used
+    bool warmStarted = false;      ///< a guess was given and the answer came from it (not from a cold restart)
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
     std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve

@@ -283,6 +283,7 @@ inline bool takeSolveReport(LcpResult& r, Resolution& out, const ResolverOptions
     out.residual = r.residual;
     out.scaledResidual = r.scaledResidual;
     out.approximate = r.status == LcpStatus::numerical_failure && r.scaledResidual <= options.acceptResidual;
+    out.warmStarted = r.warmStarted;
     out.basis = std::move(r.basis);
     out.message = std::move(r.message);
     return r.status == LcpStatus::solved || out.approximate;

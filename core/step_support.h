@@ -63,6 +63,22 @@ inline void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vect
         if (mask & (2u << m)) outBasis.push_back(nc + ci * k + m);
     if (mask & (2u << k)) outBasis.push_back(nc + nc * k + ci);
 }
+/// |guess symmetric-difference basis|: the unknowns basic in one and not the other (`basis` ascending, as
+/// LcpResult::basis; `guess` in any order, without repeats).
+inline int basisDistance(std::vector<int> guess, const std::vector<int>& basis) {
+    std::sort(guess.begin(), guess.end());
+    int common = 0;
+    for (std::size_t i = 0, j = 0; i < guess.size() && j < basis.size();) {
+        if (guess[i] < basis[j]) {
+            ++i;
+        } else if (basis[j] < guess[i]) {
+            ++j;
+        } else {
+            ++common, ++i, ++j;
+        }
+    }
+    return int(guess.size() + basis.size()) - 2 * common;
+}
 /// Sets the mask bits of the contacts [first, first + nc) of `entries` from a solved basis. `friction` false: the
 /// basis belongs to the frictionless LCP (indices are contacts).
 inline void storeBasis(const std::vector<int>& basis, int nc, int k, bool friction, ContactKey* first) {

@@ -44,7 +44,16 @@ struct StepContact {
 struct StepStats {
     int islands = 0, awakeIslands = 0, contacts = 0;
     int candidates = 0;               ///< 3D: narrowphase points before the reduction to <= 4 per pair
-    int pivots = 0, maxIslandPivots = 0, warmStartedIslands = 0;
+    int pivots = 0, maxIslandPivots = 0;
+    int warmStartedIslands = 0;       ///< islands whose friction LCP got a guessed basis (contacts matched to last step's)
+    /// Friction solves whose guess was abandoned for a cold start (Lemke from the guess wandered past its cap, or
+    /// the guess's block was singular): the cost of a guess gone stale.
+    int discardedGuesses = 0;
+    /// Sum over the friction solves that had a guess and gave a usable answer of |guess symmetric-difference
+    /// answer| (unknowns basic in one and not the other): how far the active set moved since last step. A Lemke
+    /// pivot changes at most two, so pivots >= basisChange / 2 unless a guess was discarded or corrected by block
+    /// principal pivoting (LcpOptions::blockPivotRounds; 0 in 3D).
+    int basisChange = 0;
     std::uint64_t work = 0;
     double maxResidual = 0.0;         ///< largest complementarity residual of any island's answer
     int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP used)
@@ -317,6 +326,10 @@ void WorldStep<D>::solveIsland(H& hooks, const std::vector<int>& bodies, const s
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
         options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
         Resolution res = resolveWithFriction(ioBodies, inNodes, options, mSolver);
+        if (options.lcp.warmBasis) {
+            if (!res.warmStarted) ++mStats.discardedGuesses;
+            if (usable(res)) mStats.basisChange += basisDistance(*options.lcp.warmBasis, res.basis);
+        }
         if (res.approximate) ++mStats.approximateIslands;
         if (!usable(res)) {
             ++mStats.failedIslands;

@@ -24,13 +24,15 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
     scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
     if (snapshot.at == 0) replay::writeFileAtomic(snapshot.path, world.snapshot());
-    int totalPivots = 0, maxIslandPivots = 0, failed = 0;
+    int totalPivots = 0, maxIslandPivots = 0, discardedGuesses = 0, basisChange = 0, failed = 0;
     double maxResidual = 0.0, maxPenetration = 0.0;
     for (int s = 1; s <= steps; ++s) {
         world.step();
         const StepStats2& st = world.stats();
         totalPivots += st.pivots;
         maxIslandPivots = std::max(maxIslandPivots, st.maxIslandPivots);
+        discardedGuesses += st.discardedGuesses;
+        basisChange += st.basisChange;
         failed += st.failedIslands;
         maxResidual = std::max(maxResidual, st.maxResidual);
         maxPenetration = std::max(maxPenetration, st.maxPenetration);
@@ -53,7 +55,8 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
         {"steps", steps},
         {"hash", hashHex(world.stateHash())},
         {"bodies", bodies},
-        {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots}, {"failed_islands", failed},
+        {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots},
+                   {"discarded_guesses", discardedGuesses}, {"basis_change", basisChange}, {"failed_islands", failed},
                    {"max_residual", maxResidual}, {"max_penetration", maxPenetration},
                    {"contacts", world.stats().contacts}, {"islands", world.stats().islands}}}};
     out << final.dump() << "\n";

@@ -16,13 +16,15 @@ int runScene3(const nlohmann::json& scene, const std::string& what, int steps, i
     scenes::LoadedScene3 loaded = scenes::loadScene3(scene, what, baseDir);  // throws InputError on a bad scene
     World3& world = *loaded.world;
     if (snapshot.at == 0) replay::writeFileAtomic(snapshot.path, world.snapshot());
-    int totalPivots = 0, maxIslandPivots = 0, failed = 0, unsolved = 0;
+    int totalPivots = 0, maxIslandPivots = 0, discardedGuesses = 0, basisChange = 0, failed = 0, unsolved = 0;
     double maxResidual = 0.0, maxPenetration = 0.0;
     for (int s = 1; s <= steps; ++s) {
         world.step();
         const StepStats3& st = world.stats();
         totalPivots += st.pivots;
         maxIslandPivots = std::max(maxIslandPivots, st.maxIslandPivots);
+        discardedGuesses += st.discardedGuesses;
+        basisChange += st.basisChange;
         failed += st.failedIslands;
         unsolved += st.unsolvedIslands;
         maxResidual = std::max(maxResidual, st.maxResidual);
@@ -45,7 +47,8 @@ int runScene3(const nlohmann::json& scene, const std::string& what, int steps, i
         {"steps", steps},
         {"hash", hashHex(world.stateHash())},
         {"bodies", bodies},
-        {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots}, {"failed_islands", failed},
+        {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots},
+                   {"discarded_guesses", discardedGuesses}, {"basis_change", basisChange}, {"failed_islands", failed},
                    {"unsolved_islands", unsolved}, {"max_residual", maxResidual}, {"max_penetration", maxPenetration},
                    {"contacts", world.stats().contacts}, {"islands", world.stats().islands}}}};
     out << final.dump() << "\n";

@@ -355,6 +355,11 @@ TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; ba
     CHECK(fin["bodies"][1]["position"][1].get<double>() == doctest::Approx(0.5).epsilon(0.01));
     CHECK(fin["bodies"][2]["position"][1].get<double>() == doctest::Approx(1.3).epsilon(0.01));
     CHECK(fin["stats"]["failed_islands"] == 0);
+    // The landing moves the active set (basis_change > 0); with no guess discarded, Lemke paid at least one pivot
+    // per two changed unknowns.
+    const nlohmann::json& st = fin["stats"];
+    CHECK(st["basis_change"].get<int>() > 0);
+    if (st["discarded_guesses"].get<int>() == 0) CHECK(2 * st["total_pivots"].get<int>() >= st["basis_change"].get<int>());
     CHECK(unison("run " + scene + " --steps 120 --hash-every 60").out == r.out);
     const std::pair<const char*, const char*> bad[] = {
         {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"sphere\", \"radius\": 0}]}]}", "radius"},

@@ -303,6 +303,45 @@ TEST_CASE("a stack of 5 boxes settles, keeps its footprint and sleeps") {
     CHECK_FALSE(world.info(ids[4])->awake);
 }
 
+TEST_CASE("step statistics: how far the active set moved (basisChange) and stale guesses (discardedGuesses)") {
+    // A cube resting on the ground: after settling, last step's basis is this step's answer (no change, no pivot).
+    WorldDef3 def;
+    def.enableSleep = false;
+    World3 world(def);
+    addStatic(world, groundPlane());
+    const BodyId cube = addDynamic(world, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.5, 0));
+    for (int i = 0; i < 60; ++i) world.step();
+    for (int i = 0; i < 30; ++i) {
+        world.step();
+        CHECK(world.stats().warmStartedIslands == 1);
+        CHECK(world.stats().basisChange == 0);
+        CHECK(world.stats().discardedGuesses == 0);
+        CHECK(world.stats().pivots == 0);
+    }
+    // Thrown sideways at 3 m/s: its 4 points go from sticking to sliding (the slacks and the tangent impulses
+    // opposing the motion enter, the sticking ones leave), so the guess is wrong by several unknowns, and Lemke
+    // needs at least half as many pivots as there are changes (one pivot moves at most two).
+    REQUIRE(world.setVelocity(cube, Vec3(3, 0, 0), Vec3::Zero()));
+    world.step();
+    const StepStats3& st = world.stats();
+    CHECK(st.basisChange >= 4);
+    CHECK(st.discardedGuesses == 0);
+    CHECK(2 * st.pivots >= st.basisChange);
+    CHECK(world.state(cube)->velocity.x() < 3.0);
+
+    // A tumbling heap of 16 cubes: the bound holds on every step that kept its guess, and the heap's active set
+    // does move.
+    scenes::LoadedScene3 heap = scenes::loadScene3(scenes::boxPile3Scene(16, true, false), "heap");
+    long change = 0;
+    for (int i = 0; i < 120; ++i) {
+        heap.world->step();
+        const StepStats3& h = heap.world->stats();
+        change += h.basisChange;
+        if (h.discardedGuesses == 0) CHECK(2 * h.pivots >= h.basisChange);
+    }
+    CHECK(change > 0);
+}
+
 TEST_CASE("speculative band: resting neighbours 1.5 cm apart stay separate islands; fast approaches still close") {
     // Two stacks of two 0.5 m cubes, 1.5 cm apart: their facing sides are within speculativeDistance (2 cm) but
     // nothing moves them together, so the band keeps those points out of the LCP and the stacks are two islands.
