@@ -44,6 +44,8 @@ struct StepContact {
 struct StepStats {
     int islands = 0, awakeIslands = 0, contacts = 0;
     int candidates = 0;               ///< 3D: narrowphase points before the reduction to <= 4 per pair
+    /// Lemke pivots of the step and of its costliest island, a failed friction solve's included (they were left
+    /// out before the sixth session, when the frictionless fallback's replaced them).
     int pivots = 0, maxIslandPivots = 0;
     int warmStartedIslands = 0;       ///< islands whose friction LCP got a guessed basis (contacts matched to last step's)
     /// Friction solves whose guess was abandoned for a cold start (Lemke from the guess wandered past its cap, or
@@ -333,9 +335,13 @@ void WorldStep<D>::solveIsland(H& hooks, const std::vector<int>& bodies, const s
         if (res.approximate) ++mStats.approximateIslands;
         if (!usable(res)) {
             ++mStats.failedIslands;
+            const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
+            const std::uint64_t spentWork = res.work;
             options.lcp.warmBasis = nullptr;
             options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
             res = resolveCollisions(ioBodies, inNodes, options, mSolver);
+            res.pivots += spentPivots;
+            res.work += spentWork;
         }
         mStats.pivots += res.pivots;
         mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, res.pivots);

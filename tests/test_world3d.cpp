@@ -329,6 +329,29 @@ TEST_CASE("step statistics: how far the active set moved (basisChange) and stale
     CHECK(2 * st.pivots >= st.basisChange);
     CHECK(world.state(cube)->velocity.x() < 3.0);
 
+    // A friction solve that fails counts its pivots too: with every LCP capped at 6 pivots, a cube landing while
+    // sliding cannot finish its friction LCP (normals, tangents and slacks enter) and the frictionless fallback
+    // (4 normals) can; the step reports more pivots than either solve was allowed.
+    {
+        WorldDef3 capped;
+        capped.enableSleep = false;
+        capped.lcp.maxPivots = 6;
+        World3 w(capped);
+        addStatic(w, groundPlane());
+        addDynamic(w, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.51, 0), Vec3(2, -1, 0));
+        int failedSteps = 0;
+        for (int i = 0; i < 3; ++i) {
+            w.step();
+            const StepStats3& c = w.stats();
+            if (c.failedIslands == 0) continue;
+            ++failedSteps;
+            CHECK(c.unsolvedIslands == 0);
+            CHECK(c.pivots > capped.lcp.maxPivots);
+            CHECK(c.maxIslandPivots == c.pivots);
+        }
+        CHECK(failedSteps > 0);
+    }
+
     // A tumbling heap of 16 cubes: the bound holds on every step that kept its guess, and the heap's active set
     // does move.
     scenes::LoadedScene3 heap = scenes::loadScene3(scenes::boxPile3Scene(16, true, false), "heap");
