@@ -63,20 +63,15 @@ inline void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vect
         if (mask & (2u << m)) outBasis.push_back(nc + ci * k + m);
     if (mask & (2u << k)) outBasis.push_back(nc + nc * k + ci);
 }
-/// |guess symmetric-difference basis|: the unknowns basic in one and not the other (`basis` ascending, as
-/// LcpResult::basis; `guess` in any order, without repeats).
-inline int basisDistance(std::vector<int> guess, const std::vector<int>& basis) {
-    std::sort(guess.begin(), guess.end());
+/// |guess symmetric-difference basis|: the unknowns basic in one and not the other (indices >= 0, each list
+/// without repeats, in any order). O(entries + largest index): no sort on the step's path.
+inline int basisDistance(const std::vector<int>& guess, const std::vector<int>& basis) {
+    int size = 0;
+    for (int j : basis) size = std::max(size, j + 1);
+    std::vector<char> inBasis(std::size_t(size), 0);
+    for (int j : basis) inBasis[std::size_t(j)] = 1;
     int common = 0;
-    for (std::size_t i = 0, j = 0; i < guess.size() && j < basis.size();) {
-        if (guess[i] < basis[j]) {
-            ++i;
-        } else if (basis[j] < guess[i]) {
-            ++j;
-        } else {
-            ++common, ++i, ++j;
-        }
-    }
+    for (int j : guess) common += j < size && inBasis[std::size_t(j)] ? 1 : 0;
     return int(guess.size() + basis.size()) - 2 * common;
 }
 /// Sets the mask bits of the contacts [first, first + nc) of `entries` from a solved basis. `friction` false: the
