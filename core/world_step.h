@@ -44,8 +44,8 @@ struct StepContact {
 struct StepStats {
     int islands = 0, awakeIslands = 0, contacts = 0;
     int candidates = 0;               ///< 3D: narrowphase points before the reduction to <= 4 per pair
-    /// Lemke pivots of the step and of its costliest island, a failed friction solve's included (they were left
-    /// out before the sixth session, when the frictionless fallback's replaced them).
+    /// Lemke pivots of the step and of its costliest island, a failed friction solve's included (not only the
+    /// frictionless fallback's that follows it).
     int pivots = 0, maxIslandPivots = 0;
     int warmStartedIslands = 0;       ///< islands whose friction LCP got a guessed basis (contacts matched to last step's)
     /// Friction solves whose guess was abandoned for a cold start (Lemke from the guess wandered past its cap, or
