@@ -127,7 +127,7 @@ enum class SnapshotKind : std::uint32_t { world2 = 2, world3 = 3 };
 ///   [32, 40) u64 payload size P
 ///   [40, 40 + P) payload
 ///   then     u64 XXH3 of every byte before it.
-constexpr std::uint32_t kSnapshotFormatVersion = 3;
+constexpr std::uint32_t kSnapshotFormatVersion = 4;
 constexpr std::size_t kSnapshotHeaderSize = 40;
 
 /// Wraps a payload in the container above.

@@ -264,6 +264,7 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     io.f64("lcp.degeneracyPerturbation", def.lcp.degeneracyPerturbation);
     enumeration(io, "lcp.warmCovering", def.lcp.warmCovering, int(LcpOptions::WarmCovering::violated));
     io.i32("lcp.blockPivotRounds", def.lcp.blockPivotRounds);
+    io.u64("stepBudget", def.stepBudget);  // (workerCount and the task callbacks are not state)
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
         if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
@@ -283,6 +284,11 @@ void cacheEntry(Io& io, E& e) {
     io.u16("shapeB", e.shapeB);
     io.u32("feature", e.feature);
     io.u32("basicMask", e.basicMask);
+    io.u32("cost", e.cost);
+    io.f64("normalImpulse", e.normalImpulse);
+    io.f64("tangentImpulse.x", e.tangentImpulse[0]);
+    io.f64("tangentImpulse.y", e.tangentImpulse[1]);
+    io.f64("tangentImpulse.z", e.tangentImpulse[2]);
 }
 
 /// The state of core/world_step.h: the warm-start cache (WarmStartCache) and the touching pairs (TouchPairs), both
@@ -291,17 +297,27 @@ template <class Io, class Cache, class Pairs>
 void stepState(Io& io, Cache& cache, Pairs& touching) {
     if constexpr (Io::kReading) {
         std::vector<ContactKey> entries;
-        sequence(io, "cache", entries, 20, [&](auto& e) { cacheEntry(io, e); });
+        sequence(io, "cache", entries, 56, [&](auto& e) { cacheEntry(io, e); });
         requireSorted(io, entries, "warm-start cache entries");
         if (io.ok()) cache.replace(entries);
     } else {
-        sequence(io, "cache", cache.entries(), 20, [&](auto& e) { cacheEntry(io, e); });
+        sequence(io, "cache", cache.entries(), 56, [&](auto& e) { cacheEntry(io, e); });
     }
     sequence(io, "touching", touching, 16, [&](auto& pair) {
         io.u64("a", pair.first);
         io.u64("b", pair.second);
     });
     requireSorted(io, touching, "touching pairs");
+}
+
+/// What a world keeps of itself when it restores a snapshot: the settings that are not state (its threads) and the
+/// step's thread pool and buffers. Called on the freshly read world before it replaces the live one.
+template <class Def>
+void keepExecution(const Def& live, Def& fresh) {
+    fresh.workerCount = live.workerCount;
+    fresh.enqueueTask = live.enqueueTask;
+    fresh.finishTask = live.finishTask;
+    fresh.userTaskContext = live.userTaskContext;
 }
 
 /// The bytes a state walk writes (walk(ByteSink&)).

@@ -15,13 +15,19 @@
 
 namespace unison {
 
-/// One warm-start cache entry: a contact (body slots, shape indices, feature id) and which of its LCP unknowns were
-/// basic at the end of the step that made it (see basisMaskBits). 20 bytes of keys + 4 bytes of mask.
+/// One warm-start cache entry: a contact (body slots, shape indices, feature id), which of its LCP unknowns were
+/// basic at the end of the step that made it (see appendWarmBasis), the impulses it got (the approximation's warm
+/// start, core/pgs.h) and its share of its island's predicted exact work (core/step_budget.h). 16 bytes of keys,
+/// 8 of mask and cost, 32 of impulses: 56 bytes.
 struct ContactKey {
     std::uint32_t slotA = 0, slotB = 0;
     std::uint16_t shapeA = 0, shapeB = 0;
     std::uint32_t feature = 0;
     std::uint32_t basicMask = 0;
+    /// Work units of its island's exact solve per contact, as the budget allocation predicts it for next step.
+    std::uint32_t cost = 0;
+    double normalImpulse = 0.0;               ///< N s
+    double tangentImpulse[3] = {0.0, 0.0, 0.0};  ///< N s, world frame (2D: z is 0)
     /// Order by (slotA, slotB, shapeA, shapeB, feature); the mask is not part of the key.
     bool operator<(const ContactKey& o) const {
         if (slotA != o.slotA) return slotA < o.slotA;

@@ -1,27 +1,40 @@
 // core/world_step.h — the world step of DESIGN.md written once for both dimensions: World2 and World3 differ only
 // in geometry (shapes, narrowphase) and body math (rotation, inertia), which they supply through a small hooks
-// object; everything else of the step is here.
+// object; everything else of the step is here, as named stages that run() calls in order:
+//   applyGravity       external forces into velocities
+//   findContacts       proxies with their speculative reach, the broadphase, and the narrowphase in parallel
+//   planIslands        islands by union-find (core/island); sleeping islands keep their cache entries; each awake
+//                      island with contacts becomes a job with its predicted work and its reserve
+//   solveIslands       the budget split (core/step_budget), then exact solves (core/world_step_island.h) in two
+//                      passes and the bounded approximation (core/pgs.h) for what the budget left unsolved, each
+//                      pass in parallel over islands
+//   finishIslands      integration through the world's hook and sleeping, in parallel over islands
+//   mergeResults       the islands' cache entries and statistics in island order; kinematic bodies; touch events
 //
-// Owns: the dimension-free state and scratch of a step — the warm-start cache and the touching pairs (both part
-// of a world's hashed state), the island-local body numbering, the per-body position velocities of bounce
-// islands, the Lemke workspace and the last step's contacts and statistics.
-// The step: gravity into velocities; broadphase proxies with their speculative reach and the world's narrowphase;
-// islands by union-find (core/island); per awake island one Coulomb-pyramid LCP (core/contact_resolver,
-// eq. (19)/(20) plus friction), warm-started from the previous step's basis matched through feature ids, with the
-// frictionless LCP as fallback; a second, position-only solve for islands with a bounce at the time of impact;
-// integration through the world's hook; sleeping; begin/end touch events.
-// Invariants: every loop runs in dense body, island or contact order; no unordered containers; the cache comes
-// out sorted by key; localIndex is all -1 between islands; move is reset every step and never hashed.
+// Owns: the dimension-free state and scratch of a step — the warm-start cache and the touching pairs (both part of
+// a world's hashed state), per-worker scratch (a LemkeSolver, the island-local body numbering), the per-body
+// position velocities of bounce islands, the built-in thread pool, and the last step's contacts and statistics.
+// Invariants: every serial loop runs in dense body, island or contact order; a parallel pass writes only the
+// outputs of its own item (a pair's slots, an island's bodies, contacts and job), and what a pass produces is
+// merged afterwards in item order, so the answer, the cache and StepStats are the same for any thread count; no
+// unordered containers; the cache comes out sorted by key; a worker's localIndex is all -1 between islands; move
+// is reset every step and never hashed.
 #pragma once
 
 #include "contact_resolver.h"
 #include "island.h"
 #include "lcp.h"
+#include "pgs.h"
+#include "step_budget.h"
 #include "step_support.h"
+#include "task_system.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
+#include <tuple>
+#include <type_traits>
 #include <vector>
 
 namespace unison {
@@ -56,17 +69,37 @@ struct StepStats {
     /// pivot changes at most two, so pivots >= basisChange / 2 unless a guess was discarded or corrected by block
     /// principal pivoting (LcpOptions::blockPivotRounds; 0 in 3D).
     int basisChange = 0;
+    /// Work units of the whole step (core/step_budget.h): collision, bookkeeping, LCP assembly and solves, and the
+    /// approximation. Counted, never timed: the same on every peer.
     std::uint64_t work = 0;
-    double maxResidual = 0.0;         ///< largest complementarity residual of any island's answer
-    int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP used)
-    int approximateIslands = 0;       ///< answers accepted by the world's acceptResidual
-    int unsolvedIslands = 0;          ///< islands that got no impulse at all (both LCPs failed)
+    std::uint64_t lcpWork = 0;        ///< of which the Lemke solver's own units (LcpResult::work)
+    std::uint64_t budget = 0;         ///< the step's budget in work units (0: unlimited)
+    /// What no budget can cut: collision and bookkeeping plus every awake island's reserve (the approximation's
+    /// setup and work::kMinSweeps sweeps). With a budget, work <= max(budget, minimumWork) + overrun.
+    std::uint64_t minimumWork = 0;
+    /// Work of exact attempts beyond the share they were given (the solver checks its limit between pivots, so a
+    /// warm start's factorisation can pass it); 0 when every attempt kept to its share.
+    std::uint64_t overrun = 0;
+    double maxResidual = 0.0;         ///< largest complementarity residual of any exact island's answer
+    int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP tried)
+    int acceptedInexact = 0;          ///< exact-solve answers accepted by the world's acceptResidual
+    int unsolvedIslands = 0;          ///< islands that got no impulse at all (unlimited budget, both LCPs failed)
+    int exactIslands = 0;             ///< islands with contacts whose LCP was solved
+    int approximateIslands = 0;       ///< islands with contacts given the bounded approximation (core/pgs.h)
+    double maxApproximateResidual = 0.0;  ///< largest PgsResult::residual of an approximate island
     double maxScaledResidual = 0.0;   ///< largest scaled residual (residual / max(|A|, |b|)) of any island's answer
     double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
 };
 
-/// The step shared by World2 (D = Dim2) and World3 (D = Dim3). A world owns one and calls run(hooks) with a hooks
-/// object H that provides (all in dense body indices):
+/// How one call of WorldStep::run may spend: its budget and its threads.
+struct StepControl {
+    std::uint64_t budget = 0;  ///< work units (core/step_budget.h), 0 = unlimited
+    TaskSystem tasks;          ///< worker count and an embedding job system (none: the built-in pool)
+};
+
+/// The step shared by World2 (D = Dim2) and World3 (D = Dim3). A world owns one and calls run(hooks, control)
+/// with a hooks object H that provides (all in dense body indices; every const member may be called from several
+/// threads at once):
 ///   bodies()                       the BodyStore; hot records have center, velocity, angularVelocity; cold records
 ///                                  type (an enum with staticBody/kinematicBody/dynamicBody), invMass, awake,
 ///                                  sleepTime
@@ -80,6 +113,9 @@ struct StepStats {
 ///   narrowphase(shapeA, xfA, shapeB, xfB, distance, stats)
 ///                                  the manifold of points with separation < distance: count, points[k] with
 ///                                  point, separation and feature id; normalOf(manifold, k) its normal
+///   pairWork(shapeA, shapeB, manifold)  the narrowphase's work units for that pair (core/step_budget.h)
+///   narrowphaseScope()             an object that lives while one thread runs a range of narrowphase pairs
+///   parallelNarrowphase()          false when narrowphase() must run on one thread (it records into the world)
 ///   worldInvInertia(state, info)   world-frame inverse inertia of a dynamic body
 ///   integrate(dense, v, w, dt)     moves a body by velocities v, w over dt (centre, rotation, origin)
 /// and the shapes (cold record `shapes`, each with friction and restitution) must have computeAabb(shape, xf)
@@ -90,17 +126,23 @@ public:
     using Vec = typename D::Vec;
     using Ang = typename D::Ang;
 
-    /// Advances the bodies of hooks.bodies() by one step of 1 / hz seconds.
+    /// Advances the bodies of hooks.bodies() by one step of 1 / hz seconds within control's budget and threads.
     template <class H>
-    void run(H& hooks);
+    void run(H& hooks, const StepControl& control = {});
 
     const std::vector<StepContact<D>>& contacts() const { return mContacts; }
     const std::vector<TouchEvent>& beginEvents() const { return mBegin; }
     const std::vector<TouchEvent>& endEvents() const { return mEnd; }
     const StepStats& stats() const { return mStats; }
+    /// Takes over `other`'s thread pool and per-worker buffers (not state: a world restored from a snapshot keeps
+    /// its threads).
+    void takeScratch(WorldStep& other) {
+        mPool = std::move(other.mPool);
+        mWorkers = std::move(other.mWorkers);
+    }
 
-    /// State (serialised by the worlds' transferState): previous-step contacts with their basis masks, and the
-    /// body pairs (touchKey, a < b) that touched with overlap at the end of the last step.
+    /// State (serialised by the worlds' transferState): previous-step contacts with their basis masks, impulses and
+    /// predicted costs, and the body pairs (touchKey, a < b) that touched with overlap at the end of the last step.
     WarmStartCache cache;
     TouchPairs touching;
 
@@ -111,19 +153,80 @@ private:
         Ang angularVelocity = D::zeroAng();
         bool set = false;
     };
+    /// Scratch of one worker thread; nothing in it outlives an island.
+    struct Worker {
+        LemkeSolver solver;
+        std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
+        StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
+    };
+    /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
+    struct Job {
+        enum class State : std::uint8_t { pending, exact, ranOut, skipped, failed, approximate, unsolved };
+        int island = 0;
+        int contactCount = 0;
+        std::uint64_t raw = 0;        // predicted work of the exact solve (ContactKey::cost and the prior)
+        std::uint64_t need = 0;       // what a share must cover to try it: raw and a margin
+        std::uint64_t minimum = 0;    // reserve: the approximation's setup and kMinSweeps sweeps
+        std::uint64_t sweepWork = 0;  // one approximation sweep
+        std::uint64_t grant = 0;      // exact share of the current pass (0: unlimited when the step has no budget)
+        std::uint64_t extra = 0;      // approximation share beyond the reserve
+        std::uint64_t work = 0;       // spent so far
+        State state = State::pending;
+        std::vector<ContactKey> cache;  // this island's new cache entries, contact order
+        StepStats stats;                // this island's counts
+    };
+    /// An island made ready for a solve: local bodies, contact nodes and warm starts (world_step_island.h).
+    struct IslandSetup;
 
+    template <class H>
+    void applyGravity(H& hooks);
     template <class H>
     void findContacts(H& hooks);
     template <class H>
-    void solveIsland(H& hooks, const std::vector<int>& bodies, const std::vector<int>& contactIdx,
-                     std::vector<ContactKey>& newCache);
+    void planIslands(H& hooks);
+    template <class H>
+    void solveIslands(H& hooks);
+    template <class H>
+    void finishIslands(H& hooks);
+    template <class H>
+    void mergeResults(H& hooks);
+
+    // The island solve unit (world_step_island.h): explicit inputs (the job, the hooks' bodies of its island) and
+    // outputs (the job's cache entries and statistics, its bodies' velocities, its contacts' impulses), any worker.
+    template <class H>
+    void prepareIsland(H& hooks, const Job& job, Worker& worker, IslandSetup& out) const;
+    template <class H>
+    void solveIsland(H& hooks, Job& job, Worker& worker);
+    template <class H>
+    void approximateIsland(H& hooks, Job& job, Worker& worker);
+    template <class H>
+    void storeAnswer(H& hooks, Job& job, const IslandSetup& setup) const;
     template <class H>
     ContactKey keyOf(H& hooks, const StepContact<D>& c) const;
+    template <class H>
+    std::uint64_t predictedNeed(H& hooks, int island) const;
 
-    LemkeSolver mSolver;
+    /// Runs body(begin, end, worker) over ranges covering [0, count) on the step's threads.
+    template <class Body>
+    void forRanges(int count, int minRange, Body&& body);
+    /// Runs body(item, worker) for every item in [0, count) on the step's threads.
+    template <class Body>
+    void forEach(int count, int minRange, Body&& body) {
+        forRanges(count, minRange, [&](int begin, int end, Worker& worker) {
+            for (int i = begin; i < end; ++i) body(i, worker);
+        });
+    }
+
+    StepControl mControl;                 // this call's budget and threads
+    std::unique_ptr<ThreadPool> mPool;    // the built-in pool (workerCount > 1 and no job system of the world's)
+    std::vector<Worker> mWorkers;         // one per worker index
     std::vector<StepContact<D>> mContacts;
-    std::vector<int> mLocalIndex;  // dense body -> index in the island being solved (-1 outside)
-    std::vector<Move> mMove;       // dense body -> position velocities of this step
+    Islands mIslands;
+    std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
+    std::vector<Job> mJobs;               // awake islands with contacts, island order
+    std::vector<ContactKey> mSleepingCache;  // entries kept by sleeping islands
+    std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
+    std::vector<Move> mMove;              // dense body -> position velocities of this step
     std::vector<TouchEvent> mBegin, mEnd;
     StepStats mStats;
 };
@@ -145,7 +248,53 @@ bool isKinematic(const Info& info) {
     return info.type == decltype(info.type)::kinematicBody;
 }
 
+/// Adds an island's (or a worker's) counts to the step's: sums and maxima, so the order of merging does not matter
+/// for the integers and the maxima, and the caller merges in island order anyway.
+inline void accumulate(StepStats& into, const StepStats& from) {
+    into.candidates += from.candidates;
+    into.pivots += from.pivots;
+    into.maxIslandPivots = std::max(into.maxIslandPivots, from.maxIslandPivots);
+    into.warmStartedIslands += from.warmStartedIslands;
+    into.discardedGuesses += from.discardedGuesses;
+    into.basisChange += from.basisChange;
+    into.work += from.work;
+    into.lcpWork += from.lcpWork;
+    into.overrun += from.overrun;
+    into.maxResidual = std::max(into.maxResidual, from.maxResidual);
+    into.failedIslands += from.failedIslands;
+    into.acceptedInexact += from.acceptedInexact;
+    into.unsolvedIslands += from.unsolvedIslands;
+    into.exactIslands += from.exactIslands;
+    into.approximateIslands += from.approximateIslands;
+    into.maxApproximateResidual = std::max(into.maxApproximateResidual, from.maxApproximateResidual);
+    into.maxScaledResidual = std::max(into.maxScaledResidual, from.maxScaledResidual);
+}
+
 }  // namespace world_step_detail
+
+template <class D>
+template <class Body>
+void WorldStep<D>::forRanges(int count, int minRange, Body&& body) {
+    const int workers = std::max(1, mControl.tasks.workerCount);
+    if (workers > 1 && !mControl.tasks.enqueueTask && (!mPool || mPool->workerCount() != workers))
+        mPool = std::make_unique<ThreadPool>(workers);
+    if (int(mWorkers.size()) < workers) mWorkers.resize(std::size_t(workers));
+    parallelFor(mControl.tasks, mPool.get(), count, minRange,
+                [&](int begin, int end, int worker) { body(begin, end, mWorkers[std::size_t(worker)]); });
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::applyGravity(H& hooks) {
+    const auto& def = hooks.def();
+    const double dt = 1.0 / def.hz;
+    auto& hot = hooks.bodies().hotArray();
+    const auto& cold = hooks.bodies().coldArray();
+    for (std::size_t d = 0; d < hot.size(); ++d) {
+        if (world_step_detail::isDynamic(cold[d]) && cold[d].awake)
+            hot[d].velocity = D::add(hot[d].velocity, D::scale(dt, def.gravity));
+    }
+}
 
 template <class D>
 template <class H>
@@ -196,14 +345,25 @@ void WorldStep<D>::findContacts(H& hooks) {
             inactive.push_back(world_step_detail::isDynamic(info) ? 0 : 1);
         }
     }
-    for (const auto& [p, q] : findPairs(boxes, inactive)) {
-        const Proxy& pa = proxies[std::size_t(p)];
-        const Proxy& pb = proxies[std::size_t(q)];
-        if (pa.body == pb.body) continue;
+    const auto pairs = findPairs(boxes, inactive);
+    // The narrowphase in parallel: each pair writes its points into its own slots; they are gathered in pair order.
+    using Manifold = decltype(hooks.narrowphase(cold[0].shapes[0], xfs[0], cold[0].shapes[0], xfs[0], 0.0, mStats));
+    constexpr int kSlots = int(std::tuple_size<std::decay_t<decltype(std::declval<Manifold>().points)>>::value);
+    const int np = int(pairs.size());
+    std::vector<StepContact<D>> slots(std::size_t(np) * kSlots);
+    std::vector<int> counts(std::size_t(np), 0);
+    std::vector<std::uint64_t> pairWork(std::size_t(np), 0);
+    for (Worker& w : mWorkers) w.collide = StepStats{};  // (workers created later start empty too)
+    auto collidePair = [&](int i, Worker& worker) {
+        const Proxy& pa = proxies[std::size_t(pairs[std::size_t(i)].first)];
+        const Proxy& pb = proxies[std::size_t(pairs[std::size_t(i)].second)];
+        if (pa.body == pb.body) return;
         const auto& shA = cold[std::size_t(pa.body)].shapes[std::size_t(pa.shape)];
         const auto& shB = cold[std::size_t(pb.body)].shapes[std::size_t(pb.shape)];
-        const auto m = hooks.narrowphase(shA, xfs[std::size_t(pa.body)], shB, xfs[std::size_t(pb.body)],
-                                         margin + pa.reach + pb.reach, mStats);
+        const Manifold m = hooks.narrowphase(shA, xfs[std::size_t(pa.body)], shB, xfs[std::size_t(pb.body)],
+                                             margin + pa.reach + pb.reach, worker.collide);
+        pairWork[std::size_t(i)] = hooks.pairWork(shA, shB, m);
+        int kept = 0;
         for (int k = 0; k < m.count; ++k) {
             const auto& mp = m.points[std::size_t(k)];
             // A gap that the bodies' present motion cannot bring within `band` this step stays out of the LCP:
@@ -213,7 +373,7 @@ void WorldStep<D>::findContacts(H& hooks) {
                 mp.separation + dt * std::min(0.0, closingSpeed(hot[std::size_t(pa.body)], hot[std::size_t(pb.body)],
                                                                  mp.point, hooks.normalOf(m, k))) >= band)
                 continue;
-            StepContact<D> c;
+            StepContact<D>& c = slots[std::size_t(i) * kSlots + std::size_t(kept++)];
             c.point = mp.point;
             c.normal = hooks.normalOf(m, k);
             c.separation = mp.separation;
@@ -224,220 +384,189 @@ void WorldStep<D>::findContacts(H& hooks) {
             c.shapeB = pb.shape;
             c.friction = std::sqrt(shA.friction * shB.friction);  // mixing as in Box2D
             c.restitution = std::max(shA.restitution, shB.restitution);
-            mContacts.push_back(c);
         }
+        counts[std::size_t(i)] = kept;
+    };
+    if (mWorkers.empty()) mWorkers.resize(1);
+    if (hooks.parallelNarrowphase()) {
+        forRanges(np, 16, [&](int begin, int end, Worker& worker) {
+            [[maybe_unused]] const auto scope = hooks.narrowphaseScope();  // what one thread may keep across pairs
+            for (int i = begin; i < end; ++i) collidePair(i, worker);
+        });
+    } else {
+        [[maybe_unused]] const auto scope = hooks.narrowphaseScope();
+        for (int i = 0; i < np; ++i) collidePair(i, mWorkers[0]);
     }
+    std::uint64_t narrow = 0;
+    for (int i = 0; i < np; ++i) {
+        narrow += pairWork[std::size_t(i)];
+        for (int k = 0; k < counts[std::size_t(i)]; ++k) mContacts.push_back(slots[std::size_t(i) * kSlots + std::size_t(k)]);
+    }
+    for (const Worker& w : mWorkers) mStats.candidates += w.collide.candidates;
+    mFixedWork += work::kPerBody * hot.size() + work::kPerShape * proxies.size() + work::kPerPair * pairs.size() + narrow;
 }
 
 template <class D>
 template <class H>
-ContactKey WorldStep<D>::keyOf(H& hooks, const StepContact<D>& c) const {
-    const auto& bodies = hooks.bodies();
-    return ContactKey{bodies.idAt(c.bodyA).index1, bodies.idAt(c.bodyB).index1, std::uint16_t(c.shapeA),
-                      std::uint16_t(c.shapeB), c.feature, 0};
-}
-
-template <class D>
-template <class H>
-void WorldStep<D>::solveIsland(H& hooks, const std::vector<int>& bodies, const std::vector<int>& contactIdx,
-                               std::vector<ContactKey>& newCache) {
+void WorldStep<D>::planIslands(H& hooks) {
     using world_step_detail::isDynamic;
-    const auto& def = hooks.def();
-    const double dt = 1.0 / def.hz;
-    auto& hot = hooks.bodies().hotArray();
     auto& cold = hooks.bodies().coldArray();
-    // Local numbering: the island's dynamic bodies, then every static or kinematic body its contacts touch.
-    std::vector<int> local;
-    std::vector<ResolverBody<D>> rb;
-    if (mLocalIndex.size() < hot.size()) mLocalIndex.resize(hot.size(), -1);
-    auto localOf = [&](int dense) {
-        const int known = mLocalIndex[std::size_t(dense)];
-        if (known >= 0) return known;
-        mLocalIndex[std::size_t(dense)] = int(local.size());
-        local.push_back(dense);
-        ResolverBody<D> b;
-        const auto& info = cold[std::size_t(dense)];
-        const auto& s = hot[std::size_t(dense)];
-        if (isDynamic(info)) {
-            b.invMass = info.invMass;
-            b.invInertia = hooks.worldInvInertia(s, info);
-        }
-        b.position = s.center;
-        b.velocity = s.velocity;
-        b.angularVelocity = s.angularVelocity;
-        rb.push_back(b);
-        return int(local.size()) - 1;
-    };
-    for (int d : bodies) localOf(d);
-    const int k = hooks.frictionDirections();
-    std::vector<ContactNode<D>> nodes;
-    std::vector<double> positionBias;  // per node: the bias of the position solve (differs on bouncing contacts)
-    bool split = false;                // some contact bounces this step: positions need their own solve
-    std::vector<int> warm;
-    const int nc = int(contactIdx.size());
-    for (int ci = 0; ci < nc; ++ci) {
-        const StepContact<D>& c = mContacts[std::size_t(contactIdx[std::size_t(ci)])];
-        ContactNode<D> node = makeContact<D>(localOf(c.bodyA), localOf(c.bodyB), c.point, c.normal, c.restitution,
-                                             c.friction);
-        const double sep = c.separation;
-        // Bounces are resolved at the time of impact (split into a velocity and a position answer):
-        //   - A contact that will not close within this step at its current approach speed is only speculative:
-        //     e = 0 and bias -sep/dt keep its gap >= 0 without any early rebound (it bounces in the step it closes).
-        //   - A contact that closes within the step bounces: the velocity solve targets v+ = e u (bias 0, no
-        //     position correction, which would add energy). With constant speed u over the step the surfaces
-        //     meet at t* = sep/u and then separate at e u, so the gap at the end of the step is e (u dt - sep);
-        //     moving the bodies by dt v+ would leave it sep + e u dt, (1 + e) sep too wide, and the apex up to
-        //     (1 + e) u dt too high. The positions therefore move by a second solve of the same island whose
-        //     bouncing contacts get bias -(1 + e) sep / dt (for sep < 0, a push-out of the overshoot, capped like
-        //     position correction); the velocities stay those of the first solve.
-        const double vrel = relativeNormalVelocity(rb, node);
-        const bool approachesFast = c.restitution > 0.0 && vrel < -def.restitutionThreshold;
-        const bool bounces = approachesFast && sep + dt * vrel < 0.0;
-        double moveBias;
-        if (bounces) {
-            node.bias = 0.0;
-            moveBias = std::min(def.maxCorrectionSpeed, -(1.0 + c.restitution) * sep / dt);
-            split = split || moveBias != 0.0;  // touching at the step's start (the cradle): one solve does both
-        } else if (sep > 0.0) {
-            if (approachesFast) node.restitution = 0.0;
-            node.bias = -sep / dt;
-            moveBias = node.bias;
-        } else {
-            node.bias = std::min(def.maxCorrectionSpeed, def.baumgarte * std::max(0.0, -sep - def.linearSlop) / dt);
-            moveBias = node.bias;
-        }
-        positionBias.push_back(moveBias);
-        nodes.push_back(node);
-        // Warm start: which of this contact's unknowns were basic last step.
-        if (const ContactKey* hit = cache.find(keyOf(hooks, c))) appendWarmBasis(hit->basicMask, ci, nc, k, warm);
-    }
-    for (int d : local) mLocalIndex[std::size_t(d)] = -1;  // leave the map clean for the next island
-    ResolverOptions options;
-    options.restitutionThreshold = def.restitutionThreshold;
-    options.frictionDirections = k;
-    options.tangentDeadZone = def.tangentDeadZone;
-    options.acceptResidual = hooks.acceptResidual();
-    options.lcp = def.lcp;
-    // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
-    // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
-    // takes about n/2 pivots, so 2n + 100 bounds a bad one (n = (k + 2) nc unknowns). def.lcp.maxPivots
-    // overrides both caps.
-    auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
-    auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
-                     const std::vector<int>* inWarm) {
-        options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
-        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
-        Resolution res = resolveWithFriction(ioBodies, inNodes, options, mSolver);
-        if (options.lcp.warmBasis) {
-            if (!res.warmStarted) ++mStats.discardedGuesses;
-            if (usable(res)) mStats.basisChange += basisDistance(*options.lcp.warmBasis, res.basis);
-        }
-        if (res.approximate) ++mStats.approximateIslands;
-        if (!usable(res)) {
-            ++mStats.failedIslands;
-            const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
-            const std::uint64_t spentWork = res.work;
-            options.lcp.warmBasis = nullptr;
-            options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
-            res = resolveCollisions(ioBodies, inNodes, options, mSolver);
-            res.pivots += spentPivots;
-            res.work += spentWork;
-        }
-        mStats.pivots += res.pivots;
-        mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, res.pivots);
-        mStats.work += res.work;
-        mStats.maxResidual = std::max(mStats.maxResidual, res.residual);
-        mStats.maxScaledResidual = std::max(mStats.maxScaledResidual, res.scaledResidual);
-        return res;
-    };
-    const std::vector<ResolverBody<D>> before = split ? rb : std::vector<ResolverBody<D>>{};
-    Resolution r = solve(rb, nodes, &warm);
-    if (!warm.empty()) ++mStats.warmStartedIslands;
-    if (split && usable(r)) {
-        // The position solve (see the bias comment above), warm-started from the velocity solve's basis.
-        std::vector<ResolverBody<D>> moved = before;
-        for (int ci = 0; ci < nc; ++ci) nodes[std::size_t(ci)].bias = positionBias[std::size_t(ci)];
-        const Resolution rp = solve(moved, nodes, &r.basis);
-        if (usable(rp)) {
-            for (int kk = 0; kk < int(local.size()); ++kk) {
-                const int d = local[std::size_t(kk)];
-                if (!isDynamic(cold[std::size_t(d)])) continue;
-                mMove[std::size_t(d)] = {moved[std::size_t(kk)].velocity, moved[std::size_t(kk)].angularVelocity, true};
-            }
-        }
-    }
-    if (!usable(r)) {  // no impulse at all this step
-        ++mStats.unsolvedIslands;
-        return;
-    }
-    const bool friction = !r.tangentImpulses.empty();
-    for (int ci = 0; ci < nc; ++ci) {
-        StepContact<D>& c = mContacts[std::size_t(contactIdx[std::size_t(ci)])];
-        c.normalImpulse = r.impulses[std::size_t(ci)];
-        if (friction) c.tangentImpulse = D::fromComponents(&r.tangentImpulses[std::size_t(D::kDim * ci)]);
-        newCache.push_back(keyOf(hooks, c));
-    }
-    storeBasis(r.basis, nc, k, friction, &newCache[newCache.size() - std::size_t(nc)]);
-    for (int kk = 0; kk < int(local.size()); ++kk) {
-        const int d = local[std::size_t(kk)];
-        if (!isDynamic(cold[std::size_t(d)])) continue;
-        hot[std::size_t(d)].velocity = rb[std::size_t(kk)].velocity;
-        hot[std::size_t(d)].angularVelocity = rb[std::size_t(kk)].angularVelocity;
-    }
-}
-
-template <class D>
-template <class H>
-void WorldStep<D>::run(H& hooks) {
-    using world_step_detail::isDynamic;
-    using world_step_detail::isKinematic;
-    const auto& def = hooks.def();
-    const double dt = 1.0 / def.hz;
-    auto& store = hooks.bodies();
-    auto& hot = store.hotArray();
-    auto& cold = store.coldArray();
-    const int nb = store.size();
-    mStats = StepStats{};
-    // 1. External forces into velocities (semi-implicit Euler).
-    for (int d = 0; d < nb; ++d) {
-        if (isDynamic(cold[std::size_t(d)]) && cold[std::size_t(d)].awake)
-            hot[std::size_t(d)].velocity = D::add(hot[std::size_t(d)].velocity, D::scale(dt, def.gravity));
-    }
-    // 2-3. Broadphase and narrowphase (the world's geometry).
-    mContacts.clear();
-    findContacts(hooks);
-    mStats.contacts = int(mContacts.size());
-    // 4. Islands over dynamic bodies; every contact point joins its two bodies.
+    const int nb = int(cold.size());
     std::vector<std::uint8_t> joins(std::size_t(nb), 0);
     for (int d = 0; d < nb; ++d) joins[std::size_t(d)] = isDynamic(cold[std::size_t(d)]) ? 1 : 0;
     std::vector<IslandEdge> edges;
     edges.reserve(mContacts.size());
     for (const StepContact<D>& c : mContacts) edges.push_back({c.bodyA, c.bodyB});
-    const Islands islands = buildIslands(nb, joins, edges);
-    mStats.islands = islands.count();
-    // 5-7. Per island: wake or skip, solve, integrate, sleep.
-    mMove.assign(std::size_t(nb), Move{});
-    std::vector<ContactKey> newCache;
-    std::vector<int> ibodies, icontacts;
-    for (int isl = 0; isl < islands.count(); ++isl) {
-        ibodies.assign(islands.bodies.begin() + islands.bodyStart[std::size_t(isl)],
-                       islands.bodies.begin() + islands.bodyStart[std::size_t(isl) + 1]);
-        icontacts.assign(islands.edges.begin() + islands.edgeStart[std::size_t(isl)],
-                         islands.edges.begin() + islands.edgeStart[std::size_t(isl) + 1]);
+    mIslands = buildIslands(nb, joins, edges);
+    mStats.islands = mIslands.count();
+    mAwake.assign(std::size_t(mIslands.count()), 0);
+    mJobs.clear();
+    mSleepingCache.clear();
+    mFixedWork += work::kPerContact * mContacts.size();
+    constexpr std::uint64_t kRows = std::uint64_t(pgsTangentRows<D>() + 1);
+    for (int isl = 0; isl < mIslands.count(); ++isl) {
+        const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
+        const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
         bool anyAwake = false;
-        for (int d : ibodies) anyAwake = anyAwake || cold[std::size_t(d)].awake;
+        for (int j = b0; j < b1; ++j) anyAwake = anyAwake || cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
         if (!anyAwake) {  // a sleeping island keeps its warm-start data
-            for (int ci : icontacts) {
-                const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(ci)]));
-                if (hit) newCache.push_back(*hit);
+            for (int j = e0; j < e1; ++j) {
+                const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(mIslands.edges[std::size_t(j)])]));
+                if (hit) mSleepingCache.push_back(*hit);
             }
             continue;
         }
+        mAwake[std::size_t(isl)] = 1;
         ++mStats.awakeIslands;
-        for (int d : ibodies) cold[std::size_t(d)].awake = true;
-        if (!icontacts.empty()) solveIsland(hooks, ibodies, icontacts, newCache);
+        for (int j = b0; j < b1; ++j) cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake = true;
+        if (e1 == e0) continue;
+        Job job;
+        job.island = isl;
+        job.contactCount = e1 - e0;
+        const std::uint64_t rows = kRows * std::uint64_t(job.contactCount);
+        job.sweepWork = work::kPgsSweepPerRow * rows;
+        job.minimum = work::kPgsSetupPerRow * rows + std::uint64_t(work::kMinSweeps) * job.sweepWork;
+        if (mControl.budget > 0) {
+            job.raw = predictedNeed(hooks, isl);
+            job.need = job.raw + job.raw / 4;  // a quarter more as margin
+        }
+        mJobs.push_back(std::move(job));
+    }
+}
+
+template <class D>
+template <class H>
+std::uint64_t WorldStep<D>::predictedNeed(H& hooks, int isl) const {
+    // Last step's exact work of these contacts (ContactKey::cost, per contact), and a cold solve's prior for the
+    // contacts the cache does not know.
+    const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
+    const std::uint64_t n = std::uint64_t(e1 - e0) * std::uint64_t(D::frictionDirectionCount(hooks.frictionDirections()) + 2);
+    std::uint64_t known = 0;
+    int unknown = 0;
+    for (int j = e0; j < e1; ++j) {
+        const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(mIslands.edges[std::size_t(j)])]));
+        if (hit && hit->cost > 0)
+            known += hit->cost;
+        else
+            ++unknown;
+    }
+    const std::uint64_t prior = work::kColdPerUnknownSquared * n * n;
+    return known + prior * std::uint64_t(unknown) / std::uint64_t(e1 - e0);
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::solveIslands(H& hooks) {
+    using State = typename Job::State;
+    const int nj = int(mJobs.size());
+    // Big islands first, so that one long solve does not start last on a thread (any order gives the same answer).
+    std::vector<int> order(static_cast<std::size_t>(nj));
+    for (int j = 0; j < nj; ++j) order[std::size_t(j)] = j;
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const int ca = mJobs[std::size_t(a)].contactCount, cb = mJobs[std::size_t(b)].contactCount;
+        return ca != cb ? ca > cb : a < b;
+    });
+    auto runPass = [&](auto&& fn) {
+        forEach(nj, 1, [&](int i, Worker& worker) { fn(mJobs[std::size_t(order[std::size_t(i)])], worker); });
+    };
+    std::uint64_t reserve = 0;
+    for (const Job& job : mJobs) reserve += job.minimum;
+    mStats.minimumWork = mFixedWork + reserve;
+    if (mControl.budget == 0) {  // unlimited: every island exact, as far as its LCP can be solved
+        runPass([&](Job& job, Worker& worker) { solveIsland(hooks, job, worker); });
+        return;
+    }
+    // The budget: what collision and bookkeeping left, minus every island's reserve, is the exact pool.
+    const std::uint64_t budget = mControl.budget;
+    const std::uint64_t avail = budget > mFixedWork ? budget - mFixedWork : 0;
+    std::uint64_t pool = avail > reserve ? avail - reserve : 0;
+    // Pass 1: a max-min fair split of the pool by predicted need; an island tries its exact solve only when its
+    // share covers its need (a share below it would most likely be spent for nothing).
+    std::vector<std::uint64_t> demand(static_cast<std::size_t>(nj));
+    for (int j = 0; j < nj; ++j) demand[std::size_t(j)] = mJobs[std::size_t(j)].need;
+    std::vector<std::uint64_t> share = fairShares(demand, pool);
+    for (int j = 0; j < nj; ++j) {
+        Job& job = mJobs[std::size_t(j)];
+        job.grant = share[std::size_t(j)] >= job.need ? job.need : 0;
+        job.state = job.grant > 0 ? State::pending : State::skipped;
+    }
+    auto exactPass = [&] {
+        runPass([&](Job& job, Worker& worker) {
+            if (job.state == State::pending && job.grant > 0) solveIsland(hooks, job, worker);
+        });
+    };
+    auto spent = [&] {
+        std::uint64_t s = 0;
+        for (const Job& job : mJobs) s += job.work;
+        return s;
+    };
+    exactPass();
+    // Pass 2: what pass 1 left goes, split the same way, to the islands it skipped.
+    std::uint64_t used = spent();
+    pool = pool > used ? pool - used : 0;
+    for (int j = 0; j < nj; ++j) demand[std::size_t(j)] = mJobs[std::size_t(j)].state == State::skipped ? mJobs[std::size_t(j)].need : 0;
+    share = fairShares(demand, pool);
+    bool second = false;
+    for (int j = 0; j < nj; ++j) {
+        Job& job = mJobs[std::size_t(j)];
+        if (job.state != State::skipped || share[std::size_t(j)] < job.need || job.need == 0) continue;
+        job.grant = job.need;
+        job.state = State::pending;
+        second = true;
+    }
+    if (second) exactPass();
+    // The approximation for every island left without an exact answer: its reserve, plus a fair part of what is
+    // left (pool and the reserves of exact islands) as more sweeps, up to kMaxSweeps.
+    used = spent();
+    std::uint64_t approxReserve = 0;
+    for (const Job& job : mJobs) approxReserve += job.state == State::exact ? 0 : job.minimum;
+    const std::uint64_t after = avail > used ? avail - used : 0;
+    const std::uint64_t left = after > approxReserve ? after - approxReserve : 0;
+    for (int j = 0; j < nj; ++j) {
+        const Job& job = mJobs[std::size_t(j)];
+        demand[std::size_t(j)] = job.state == State::exact ? 0
+                                 : std::uint64_t(work::kMaxSweeps - work::kMinSweeps) * job.sweepWork;
+    }
+    share = fairShares(demand, left);
+    for (int j = 0; j < nj; ++j) mJobs[std::size_t(j)].extra = share[std::size_t(j)];
+    runPass([&](Job& job, Worker& worker) {
+        if (job.state != State::exact) approximateIsland(hooks, job, worker);
+    });
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::finishIslands(H& hooks) {
+    const auto& def = hooks.def();
+    const double dt = 1.0 / def.hz;
+    auto& hot = hooks.bodies().hotArray();
+    auto& cold = hooks.bodies().coldArray();
+    forEach(mIslands.count(), 64, [&](int isl, Worker&) {
+        if (!mAwake[std::size_t(isl)]) return;
+        const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
         double minSleep = 1e300;
-        for (int d : ibodies) {
+        for (int j = b0; j < b1; ++j) {
+            const int d = mIslands.bodies[std::size_t(j)];
             auto& s = hot[std::size_t(d)];
             auto& info = cold[std::size_t(d)];
             const Move& move = mMove[std::size_t(d)];
@@ -451,18 +580,37 @@ void WorldStep<D>::run(H& hooks) {
             minSleep = std::min(minSleep, info.sleepTime);
         }
         if (def.enableSleep && minSleep >= def.timeToSleep) {
-            for (int d : ibodies) {
+            for (int j = b0; j < b1; ++j) {
+                const int d = mIslands.bodies[std::size_t(j)];
                 cold[std::size_t(d)].awake = false;
                 hot[std::size_t(d)].velocity = D::zeroVec();
                 hot[std::size_t(d)].angularVelocity = D::zeroAng();
             }
         }
-    }
-    for (int d = 0; d < nb; ++d)  // kinematic bodies move on their own
+    });
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::mergeResults(H& hooks) {
+    using world_step_detail::isKinematic;
+    const double dt = 1.0 / hooks.def().hz;
+    auto& store = hooks.bodies();
+    auto& hot = store.hotArray();
+    const auto& cold = store.coldArray();
+    for (int d = 0; d < store.size(); ++d)  // kinematic bodies move on their own
         if (isKinematic(cold[std::size_t(d)]))
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
+    std::vector<ContactKey> newCache;
+    newCache.swap(mSleepingCache);
+    for (Job& job : mJobs) {  // island order
+        newCache.insert(newCache.end(), job.cache.begin(), job.cache.end());
+        world_step_detail::accumulate(mStats, job.stats);
+        mStats.work += job.work;
+    }
     cache.replace(newCache);
-    // 8. Begin/end events (pairs of bodies touching with overlap) and the deepest overlap.
+    mStats.work += mFixedWork;
+    // Begin/end events (pairs of bodies touching with overlap) and the deepest overlap.
     TouchPairs now;
     for (const StepContact<D>& c : mContacts) {
         if (c.separation < 0.0) {
@@ -476,4 +624,24 @@ void WorldStep<D>::run(H& hooks) {
     touching.swap(now);
 }
 
+template <class D>
+template <class H>
+void WorldStep<D>::run(H& hooks, const StepControl& control) {
+    mControl = control;
+    mStats = StepStats{};
+    mStats.budget = control.budget;
+    mFixedWork = 0;
+    applyGravity(hooks);
+    mContacts.clear();
+    findContacts(hooks);
+    mStats.contacts = int(mContacts.size());
+    planIslands(hooks);
+    mMove.assign(hooks.bodies().hotArray().size(), Move{});
+    solveIslands(hooks);
+    finishIslands(hooks);
+    mergeResults(hooks);
+}
+
 }  // namespace unison
+
+#include "world_step_island.h"

@@ -16,6 +16,8 @@ struct GoldenScene {
     std::string name;     ///< "pyramid", "restitution_row", "mixed_pile", "cradle"
     nlohmann::json scene; ///< scene JSON (from scenes/)
     int steps = 0;        ///< ticks stepped
+    std::uint64_t budget = 0;  ///< per-step budget in work units (core/step_budget.h), 0 = unlimited
+    int threads = 1;           ///< worker threads it is stepped with (the hashes must not depend on it)
     /// "dimension": 3 (World3).
     bool is3d() const;
 };
@@ -23,7 +25,8 @@ struct GoldenScene {
 /// The golden scenes: a 10-row testbed pyramid (sleep off, so every tick solves its LCP warm-started), the
 /// restitution row, a pile of circles, boxes and polygons in a box, the 5-ball cradle, a 16-row pyramid's landing
 /// (the solver's large-block paths); in 3D a toppling box heap,
-/// bouncing spheres and two sphere-tree bunnies on the paper's ramps. Throws on a missing scene file.
+/// bouncing spheres and two sphere-tree bunnies on the paper's ramps; and two of them again with a budget that
+/// leaves some islands to the approximation, stepped on 2 threads. Throws on a missing scene file.
 std::vector<GoldenScene> goldenScenes();
 
 /// XXH3 of a run's tick hashes (each as little-endian u64): one value that covers every tick.

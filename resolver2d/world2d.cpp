@@ -142,11 +142,32 @@ struct World2::Hooks {
         return collide(a, xfA, b, xfB, distance);
     }
     Vec2 normalOf(const Manifold2& m, int) const { return m.normal; }  // one normal per 2D manifold
+    /// Feature pairs the narrowphase compares (vertices or the circle of each shape), as work units.
+    std::uint64_t pairWork(const Shape2& a, const Shape2& b, const Manifold2&) const {
+        auto features = [](const Shape2& s) {
+            return s.type == ShapeType::polygon ? std::uint64_t(s.polygon.count) : s.type == ShapeType::segment ? 2u : 1u;
+        };
+        return work::kNarrowPair2 + work::kPerFeaturePair2 * features(a) * features(b);
+    }
+    int narrowphaseScope() const { return 0; }  // the 2D narrowphase keeps nothing between pairs
+    bool parallelNarrowphase() const { return true; }
 };
 
-void World2::step() {
+bool World2::setTaskSystem(const TaskSystem& tasks) {
+    if (tasks.workerCount < 1 || (tasks.enqueueTask == nullptr) != (tasks.finishTask == nullptr)) return false;
+    mDef.workerCount = tasks.workerCount;
+    mDef.enqueueTask = tasks.enqueueTask;
+    mDef.finishTask = tasks.finishTask;
+    mDef.userTaskContext = tasks.userContext;
+    return true;
+}
+
+void World2::step() { step(mDef.stepBudget); }
+
+void World2::step(std::uint64_t budget) {
     Hooks hooks{*this};
-    mStep.run(hooks);
+    mStep.run(hooks, StepControl{budget, {std::max(1, mDef.workerCount), mDef.enqueueTask, mDef.finishTask,
+                                          mDef.userTaskContext}});
     mContactPoints.clear();
     for (const StepContact<Dim2>& c : mStep.contacts()) {
         const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)

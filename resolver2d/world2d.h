@@ -67,6 +67,17 @@ struct WorldDef2 {
         o.warmCovering = LcpOptions::WarmCovering::violated;
         return o;
     }();
+    /// Work units one step may spend (core/step_budget.h; work::fromMilliseconds converts a time on the reference
+    /// machine), 0 = unlimited. Islands the budget cannot solve exactly get a bounded approximation (StepStats
+    /// counts them). Part of the state: every peer must step with the same budget.
+    std::uint64_t stepBudget = 0;
+    /// Threads a step may use (>= 1). Not state: the answer is the same bits for any count.
+    int workerCount = 1;
+    /// An embedding job system (core/task_system.h), both or neither; none: the world's own std::thread pool when
+    /// workerCount > 1. Not state.
+    EnqueueTaskCallback* enqueueTask = nullptr;
+    FinishTaskCallback* finishTask = nullptr;
+    void* userTaskContext = nullptr;  ///< passed to enqueueTask and finishTask
 };
 
 /// Hot per-body state: the only thing the solver writes. 64 bytes.
@@ -115,8 +126,16 @@ public:
     /// Removes a body; false for a stale or null id. Its contacts end (end events next step).
     bool destroyBody(BodyId id);
 
-    /// Advances by one step of 1/hz seconds.
+    /// Advances by one step of 1/hz seconds within def().stepBudget.
     void step();
+    /// Advances by one step with `budget` work units (0 = unlimited) instead of def().stepBudget, for this call only
+    /// (not recorded in the state: a replay steps with def().stepBudget).
+    void step(std::uint64_t budget);
+    /// Sets def().stepBudget (work units, 0 = unlimited).
+    void setStepBudget(std::uint64_t budget) { mDef.stepBudget = budget; }
+    /// Sets the threads of the next steps: def().workerCount and the job-system callbacks (none: the built-in pool).
+    /// False (and nothing changes) for workerCount < 1 or only one of the two callbacks.
+    bool setTaskSystem(const TaskSystem& tasks);
 
     int bodyCount() const { return mBodies.size(); }
     bool valid(BodyId id) const { return mBodies.valid(id); }

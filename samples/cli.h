@@ -50,11 +50,19 @@ struct RunSnapshot {
     std::string path;
 };
 
+/// How `unison run` may spend each step: worker threads and a per-step budget in work units (0 = unlimited;
+/// core/step_budget.h). The hash lines do not depend on `threads`.
+struct RunBudget {
+    int threads = 1;
+    std::uint64_t budget = 0;
+};
+
 /// `unison run`: steps a scene, printing {"step", "hash"} every `hashEvery` steps (0: never) and a final JSON
-/// object with every body's state and the step statistics to `out`. Returns 0, or 1 when some island's LCP
+/// object with every body's state and the step statistics to `out` (with `worst_step_ms` and `mean_step_ms`, wall
+/// clock, and `max_step_work`, `approximate_islands`, `exact_islands`). Returns 0, or 1 when some island's LCP
 /// failed during the run. Bad scenes throw InputError.
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
-             const RunSnapshot& snapshot = {});
+             const RunSnapshot& snapshot = {}, const RunBudget& budget = {});
 
 /// `unison record SCENE --inputs INPUTS --steps N -o OUT [--snapshot-every K]`: records a match (replay/recording.h)
 /// and prints {"steps", "final_hash", "snapshots", "bytes"}. Returns 0; bad input throws InputError.
@@ -73,7 +81,7 @@ int diffCommand(const std::string& fileA, const std::string& fileB, std::ostream
 /// `unison run` for a scene with "dimension": 3 (runScene dispatches to it); relative `obj` paths are resolved
 /// against the folder of `what` (the scene file).
 int runScene3(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
-              const RunSnapshot& snapshot = {});
+              const RunSnapshot& snapshot = {}, const RunBudget& budget = {});
 
 /// A state hash as the 16 lower-case hex digits the run output prints.
 std::string hashHex(std::uint64_t hash);

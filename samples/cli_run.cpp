@@ -1,6 +1,8 @@
-// samples/cli_run.cpp — `unison run SCENE.json [--steps N] [--hash-every K]`: steps a scene and prints
-// {"step", "hash"} lines every K steps, then one JSON object with every body's final state and step statistics.
+// samples/cli_run.cpp — `unison run SCENE.json [--steps N] [--hash-every K] [--threads T] [--budget W]`: steps a
+// scene and prints {"step", "hash"} lines every K steps, then one JSON object with every body's final state and
+// step statistics.
 #include "cli.h"
+#include "run_stats.h"
 #include "scene_json.h"
 #include "snapshot_file.h"
 
@@ -17,25 +19,19 @@ std::string hashHex(std::uint64_t hash) {
 }
 
 int runScene(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
-             const RunSnapshot& snapshot) {
+             const RunSnapshot& snapshot, const RunBudget& budget) {
     const nlohmann::json* dim = scene.is_object() && scene.contains("dimension") ? &scene["dimension"] : nullptr;
     if (snapshot.at > steps) throw InputError("--snapshot-at " + std::to_string(snapshot.at) + " is after the last step");
-    if (dim && dim->is_number_integer() && dim->get<int>() == 3) return runScene3(scene, what, steps, hashEvery, out, snapshot);
+    if (budget.threads < 1) throw InputError("--threads must be >= 1");
+    if (dim && dim->is_number_integer() && dim->get<int>() == 3) return runScene3(scene, what, steps, hashEvery, out, snapshot, budget);
     scenes::LoadedScene2 loaded = scenes::loadScene2(scene, what);  // throws InputError (a JsonError) on a bad scene
     World2& world = *loaded.world;
+    world.setStepBudget(budget.budget);
+    world.setTaskSystem(TaskSystem{budget.threads});
     if (snapshot.at == 0) replay::writeFileAtomic(snapshot.path, world.snapshot());
-    int totalPivots = 0, maxIslandPivots = 0, discardedGuesses = 0, basisChange = 0, failed = 0;
-    double maxResidual = 0.0, maxPenetration = 0.0;
+    RunStats run;
     for (int s = 1; s <= steps; ++s) {
-        world.step();
-        const StepStats2& st = world.stats();
-        totalPivots += st.pivots;
-        maxIslandPivots = std::max(maxIslandPivots, st.maxIslandPivots);
-        discardedGuesses += st.discardedGuesses;
-        basisChange += st.basisChange;
-        failed += st.failedIslands;
-        maxResidual = std::max(maxResidual, st.maxResidual);
-        maxPenetration = std::max(maxPenetration, st.maxPenetration);
+        run.step(world);
         if (s == snapshot.at) replay::writeFileAtomic(snapshot.path, world.snapshot());
         if (hashEvery > 0 && s % hashEvery == 0) out << nlohmann::json{{"step", s}, {"hash", hashHex(world.stateHash())}}.dump() << "\n";
     }
@@ -55,12 +51,9 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
         {"steps", steps},
         {"hash", hashHex(world.stateHash())},
         {"bodies", bodies},
-        {"stats", {{"total_pivots", totalPivots}, {"max_island_pivots", maxIslandPivots},
-                   {"discarded_guesses", discardedGuesses}, {"basis_change", basisChange}, {"failed_islands", failed},
-                   {"max_residual", maxResidual}, {"max_penetration", maxPenetration},
-                   {"contacts", world.stats().contacts}, {"islands", world.stats().islands}}}};
+        {"stats", run.toJson(world.stats())}};
     out << final.dump() << "\n";
-    return failed == 0 ? 0 : 1;
+    return run.failed == 0 ? 0 : 1;
 }
 
 }  // namespace unison::cli

@@ -2,6 +2,7 @@
 // JSON results go to stdout; errors go to stderr with exit code 2 for bad input and 1 for an unsolved problem.
 #include "cli.h"
 #include "fp_env.h"
+#include "step_budget.h"
 
 #include <CLI/CLI.hpp>
 
@@ -35,6 +36,15 @@ int main(int argc, char** argv) {
     run->add_option("--snapshot-at", snapshotAt, "write a snapshot after step T (0: the loaded scene) to -o FILE")
         ->check(CLI::NonNegativeNumber);
     run->add_option("-o,--output", snapshotOut, "snapshot file (.usnap) for --snapshot-at");
+    RunBudget runBudget;
+    double budgetMs = 0.0;
+    run->add_option("--threads", runBudget.threads, "worker threads (default 1); the hashes do not depend on it")
+        ->check(CLI::PositiveNumber);
+    auto* budgetUnits = run->add_option("--budget", runBudget.budget, "per-step budget in work units (0: unlimited)")
+                            ->check(CLI::NonNegativeNumber);
+    run->add_option("--budget-ms", budgetMs, "per-step budget in milliseconds of the reference machine")
+        ->check(CLI::PositiveNumber)
+        ->excludes(budgetUnits);
 
     std::string inputsFile, recordOut;
     int recordSteps = 60, snapshotEvery = 30;
@@ -71,8 +81,9 @@ int main(int argc, char** argv) {
     try {
         if (*run) {
             if ((snapshotAt >= 0) != !snapshotOut.empty()) throw InputError("--snapshot-at and -o go together");
+            if (budgetMs > 0.0) runBudget.budget = unison::work::fromMilliseconds(budgetMs);
             return runScene(parseJson(readFile(sceneFile), sceneFile), sceneFile, steps, hashEvery, std::cout,
-                            RunSnapshot{snapshotAt, snapshotOut});
+                            RunSnapshot{snapshotAt, snapshotOut}, runBudget);
         }
         if (*record) return recordCommand(sceneFile, inputsFile, recordSteps, snapshotEvery, recordOut, std::cout);
         if (*verify) return verifyCommand(verifyFile, verifyInputs, std::cout, std::cerr);

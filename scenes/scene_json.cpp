@@ -2,6 +2,7 @@
 #include "scene_json.h"
 
 #include <cmath>
+#include <limits>
 
 namespace unison::scenes {
 namespace {
@@ -96,6 +97,8 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
         if (!sl->is_boolean()) fail(what + ".sleep", "expected true or false");
         def.enableSleep = sl->get<bool>();
     }
+    if (const json* b = member(scene, what, "step_budget", false))  // work units per step (core/step_budget.h)
+        def.stepBudget = std::uint64_t(jsonio::integer(*b, what + ".step_budget", 0, std::numeric_limits<int>::max()));
     LoadedScene2 out;
     out.world = std::make_unique<World2>(def);
     const json* bodies = member(scene, what, "bodies", true);

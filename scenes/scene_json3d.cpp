@@ -3,6 +3,8 @@
 
 #include "obj_mesh.h"
 
+#include <limits>
+
 namespace unison::scenes {
 namespace {
 
@@ -145,6 +147,8 @@ LoadedScene3 loadScene3(const json& scene, const std::string& what, const std::s
     def.restitutionThreshold = numberOr(scene, what, "restitution_threshold", def.restitutionThreshold);
     if (def.restitutionThreshold < 0.0) fail(what + ".restitution_threshold", "must be >= 0");
     if (const json* sl = member(scene, what, "sleep", false)) def.enableSleep = jsonio::boolean(*sl, what + ".sleep");
+    if (const json* b = member(scene, what, "step_budget", false))  // work units per step (core/step_budget.h)
+        def.stepBudget = std::uint64_t(jsonio::integer(*b, what + ".step_budget", 0, std::numeric_limits<int>::max()));
     if (const json* k = member(scene, what, "friction_directions", false))
         def.frictionDirections = jsonio::integer(*k, what + ".friction_directions", 4, 16);
     LoadedScene3 out;

@@ -1,0 +1,63 @@
+// core/step_budget.h — the per-step budget in deterministic work units: what one unit is worth in time on the
+// reference machine, what each stage of a step counts, and how a step's budget is split among its islands.
+//
+// Owns: the work-unit weights of the stages (collision, bookkeeping, assembly, the approximation), the one
+// documented conversion from milliseconds, and the allocation (allocateShares). docs/budget.md gives the design.
+// Invariants: every count is an integer computed from data known on every peer (sizes, counts, the solver's own
+// work units, the warm-start cache); nothing is ever timed. The allocation is a pure function of its inputs, in
+// island order with ties broken by island index, so every peer and every thread count gets the same shares.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace unison {
+
+namespace work {
+
+/// Nanoseconds one work unit takes on the reference machine (2-core x86-64 CI class, Release build), measured once
+/// on the bench scenes (bench/bench_budget prints each scene's own ns per unit beside it). Never measured at run
+/// time: it only converts a budget a user thinks of in milliseconds.
+constexpr double kNsPerUnit = 1.0;
+
+/// Work units of `ms` milliseconds on the reference machine (kNsPerUnit), rounded down; 0 for ms <= 0.
+std::uint64_t fromMilliseconds(double ms);
+/// Milliseconds of `units` work units on the reference machine.
+double toMilliseconds(std::uint64_t units);
+
+// Weights of the stages (units per item). Lemke counts its own units (LcpResult::work); these put everything else
+// on the same scale.
+constexpr std::uint64_t kPerBody = 60;          ///< gravity, integration, sleep test, per body
+constexpr std::uint64_t kPerShape = 60;         ///< bounding box and broadphase entry, per shape
+constexpr std::uint64_t kPerPair = 40;          ///< broadphase pair bookkeeping (narrowphase: the world's pairWork)
+constexpr std::uint64_t kNarrowPair2 = 100;     ///< 2D narrowphase, per pair
+constexpr std::uint64_t kPerFeaturePair2 = 20;  ///< 2D narrowphase, per feature pair compared
+constexpr std::uint64_t kNarrowPair3 = 200;     ///< 3D narrowphase, per pair
+constexpr std::uint64_t kPerFeaturePair3 = 10;  ///< 3D narrowphase, per face-vertex or edge-edge test or candidate
+constexpr std::uint64_t kPerContact = 150;      ///< contact record, island edge, cache lookup, touch event
+constexpr std::uint64_t kPerRow = 60;           ///< LCP assembly, per row (a normal or tangent direction)
+constexpr std::uint64_t kPerEntry = 8;          ///< LCP assembly, per coupling entry (row pair sharing a body)
+constexpr std::uint64_t kPgsSetupPerRow = 40;   ///< approximation: Jacobians and effective masses, per row
+constexpr std::uint64_t kPgsSweepPerRow = 12;   ///< approximation: one projected Gauss-Seidel update, per row
+
+/// Sweeps every approximate island gets (its reserve) and the most it gets from leftover budget.
+constexpr int kMinSweeps = 8;
+constexpr int kMaxSweeps = 64;
+
+/// Prior of an island's exact work for contacts not in the warm-start cache, per squared LCP unknown: a cold
+/// Lemke solve takes about n / 2 pivots on blocks of about n / 2 unknowns.
+constexpr std::uint64_t kColdPerUnknownSquared = 4;
+
+}  // namespace work
+
+/// What the allocation knows of one island before it is solved (island order).
+struct IslandDemand {
+    std::uint64_t need = 0;       ///< predicted work of its exact solve (0: nothing to solve)
+    std::uint64_t sweepWork = 0;  ///< work of one approximation sweep
+};
+
+/// Max-min fair split of `pool` among demands: each gets min(demand, level) with the level as high as the pool
+/// allows; demands are visited in ascending (demand, index) order, so the result is the same on every peer.
+std::vector<std::uint64_t> fairShares(const std::vector<std::uint64_t>& demands, std::uint64_t pool);
+
+}  // namespace unison

@@ -1,0 +1,105 @@
+// core/task_system.h — how a world step runs work on several threads: the callback interface an embedding server
+// plugs its own job system into (enqueue a task over a range of items, later wait for it), the small built-in
+// std::thread pool used when it does not, and parallelFor(), the one way the step calls either.
+//
+// Owns: the callback types, TaskSystem (the callbacks of one world plus its worker count) and ThreadPool.
+// Invariants: a task's callback gets disjoint item ranges [begin, end) that together cover [0, itemCount) exactly
+// once, and a worker index in [0, workerCount); the caller of parallelFor() is worker 0 of the built-in pool. How
+// the items are split into ranges and which worker runs which range is free: the step only hands out work whose
+// result does not depend on it (each item writes only its own outputs; per-worker data is scratch), which is what
+// keeps every answer identical for any thread count.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <vector>
+
+namespace unison {
+
+/// A task body: processes items [begin, end) on worker `worker` (0 <= worker < the world's workerCount).
+using TaskCallback = void(int begin, int end, int worker, void* taskContext);
+/// Starts `task` over `itemCount` items in ranges of at least `minRange` items on the embedding job system. Returns
+/// a handle for FinishTaskCallback, or nullptr when the task already ran to completion before returning.
+using EnqueueTaskCallback = void*(TaskCallback* task, int itemCount, int minRange, void* taskContext,
+                                  void* userContext);
+/// Waits until the task of `userTask` (never nullptr) has processed every item.
+using FinishTaskCallback = void(void* userTask, void* userContext);
+
+/// The threads of one world: the callbacks of an embedding job system, or none (the built-in pool).
+struct TaskSystem {
+    int workerCount = 1;                        ///< threads the step may use, >= 1 (1: everything on the caller)
+    EnqueueTaskCallback* enqueueTask = nullptr; ///< nullptr: the built-in pool
+    FinishTaskCallback* finishTask = nullptr;   ///< must be set with enqueueTask
+    void* userContext = nullptr;                ///< passed to both callbacks
+};
+
+/// A fixed set of workerCount - 1 std::threads; the thread that finishes a task works on it too, as worker 0.
+/// Tasks are taken first-in first-out in ranges; one thread at a time enqueues and finishes (the world's step).
+class ThreadPool {
+public:
+    /// Starts workerCount - 1 threads (none for workerCount <= 1).
+    explicit ThreadPool(int workerCount);
+    ~ThreadPool();
+    ThreadPool(const ThreadPool&) = delete;
+    ThreadPool& operator=(const ThreadPool&) = delete;
+
+    int workerCount() const { return mWorkerCount; }
+    /// EnqueueTaskCallback with userContext = this pool.
+    static void* enqueue(TaskCallback* task, int itemCount, int minRange, void* taskContext, void* pool);
+    /// FinishTaskCallback with userContext = this pool.
+    static void finish(void* handle, void* pool);
+
+private:
+    struct Task {
+        TaskCallback* callback = nullptr;
+        void* context = nullptr;
+        int itemCount = 0, rangeSize = 1, rangeCount = 0;
+        std::atomic<int> next{0};  // next range to hand out
+        std::atomic<int> done{0};  // ranges finished
+        int users = 0;             // pool threads working on it (under the pool's mutex)
+    };
+    /// Runs one range of `task` on `worker`; false when it had none left.
+    static bool runOne(Task& task, int worker);
+    void workerLoop(int worker);
+
+    int mWorkerCount = 1;
+    std::vector<std::thread> mThreads;
+    std::mutex mMutex;
+    std::condition_variable mWake;      // workers: a task was enqueued, or stop
+    std::condition_variable mFinished;  // finish(): a range of some task completed
+    std::deque<std::unique_ptr<Task>> mTasks;  // enqueued and not yet finished, oldest first
+    bool mStop = false;
+};
+
+/// Runs body(begin, end, worker) over [0, itemCount) through `tasks` (`pool` when it has no callbacks of its own;
+/// either may be absent: then everything runs here as worker 0) and returns when every item is done.
+template <class Body>
+void parallelFor(const TaskSystem& tasks, ThreadPool* pool, int itemCount, int minRange, Body&& body) {
+    if (itemCount <= 0) return;
+    using Fn = std::remove_reference_t<Body>;
+    auto trampoline = [](int begin, int end, int worker, void* context) {
+        (*static_cast<Fn*>(context))(begin, end, worker);
+    };
+    EnqueueTaskCallback* enqueue = tasks.enqueueTask;
+    FinishTaskCallback* finish = tasks.finishTask;
+    void* user = tasks.userContext;
+    if (!enqueue && pool && pool->workerCount() > 1) {
+        enqueue = &ThreadPool::enqueue;
+        finish = &ThreadPool::finish;
+        user = pool;
+    }
+    if (tasks.workerCount <= 1 || !enqueue || !finish || itemCount <= minRange) {
+        body(0, itemCount, 0);
+        return;
+    }
+    void* handle = enqueue(+trampoline, itemCount, minRange < 1 ? 1 : minRange, const_cast<void*>(static_cast<const void*>(&body)), user);
+    if (handle) finish(handle, user);
+}
+
+}  // namespace unison

@@ -1,0 +1,334 @@
+// core/world_step_island.h — the island solve unit of core/world_step.h (included at its end): how one awake island
+// with contacts is made ready (local bodies, the paper's contact nodes with their bias, warm starts from the cache),
+// solved exactly (one Coulomb-pyramid LCP, eq. (19)/(20) plus friction, with the frictionless LCP as fallback and
+// a second, position-only solve for bounces at the time of impact) within a work limit, or approximated
+// (core/pgs.h) when the budget left it unsolved, and how its answer is written back.
+//
+// Owns no state. Every function here reads the hooks' bodies and the step's contacts, writes only the island's own
+// bodies, contacts and Job, and keeps its scratch in the Worker it is given, so islands run on any thread.
+// Invariants: a worker's localIndex is all -1 when a function returns; an island that got no answer leaves its
+// bodies untouched.
+#pragma once
+
+#include "world_step.h"
+
+namespace unison {
+
+template <class D>
+struct WorldStep<D>::IslandSetup {
+    std::vector<int> local;                 // local index -> dense body: the island's dynamic bodies, then the rest
+    std::vector<ResolverBody<D>> bodies;    // (local)
+    std::vector<int> contacts;              // (contacts) indices into mContacts, island order
+    std::vector<ContactNode<D>> nodes;      // (contacts)
+    std::vector<double> positionBias;       // (contacts) the bias of the position solve (differs on bouncing contacts)
+    bool split = false;                     // some contact bounces this step: positions need their own solve
+    std::vector<int> warm;                  // the friction LCP's guessed basis from the cache
+    std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
+    std::uint64_t sumSquares = 0;           // sum over movable bodies of (contacts on the body)^2
+};
+
+template <class D>
+template <class H>
+ContactKey WorldStep<D>::keyOf(H& hooks, const StepContact<D>& c) const {
+    const auto& bodies = hooks.bodies();
+    return ContactKey{bodies.idAt(c.bodyA).index1, bodies.idAt(c.bodyB).index1, std::uint16_t(c.shapeA),
+                      std::uint16_t(c.shapeB), c.feature, 0};
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker, IslandSetup& out) const {
+    using world_step_detail::isDynamic;
+    const auto& def = hooks.def();
+    const double dt = 1.0 / def.hz;
+    const auto& hot = hooks.bodies().hotArray();
+    const auto& cold = hooks.bodies().coldArray();
+    std::vector<int>& localIndex = worker.localIndex;
+    if (localIndex.size() < hot.size()) localIndex.resize(hot.size(), -1);
+    std::vector<int>& local = out.local;
+    std::vector<ResolverBody<D>>& rb = out.bodies;
+    // Local numbering: the island's dynamic bodies, then every static or kinematic body its contacts touch.
+    auto localOf = [&](int dense) {
+        const int known = localIndex[std::size_t(dense)];
+        if (known >= 0) return known;
+        localIndex[std::size_t(dense)] = int(local.size());
+        local.push_back(dense);
+        ResolverBody<D> b;
+        const auto& info = cold[std::size_t(dense)];
+        const auto& s = hot[std::size_t(dense)];
+        if (isDynamic(info)) {
+            b.invMass = info.invMass;
+            b.invInertia = hooks.worldInvInertia(s, info);
+        }
+        b.position = s.center;
+        b.velocity = s.velocity;
+        b.angularVelocity = s.angularVelocity;
+        rb.push_back(b);
+        return int(local.size()) - 1;
+    };
+    const int b0 = mIslands.bodyStart[std::size_t(job.island)], b1 = mIslands.bodyStart[std::size_t(job.island) + 1];
+    const int e0 = mIslands.edgeStart[std::size_t(job.island)], e1 = mIslands.edgeStart[std::size_t(job.island) + 1];
+    for (int j = b0; j < b1; ++j) localOf(mIslands.bodies[std::size_t(j)]);
+    const int dynamicCount = int(local.size());
+    const int k = hooks.frictionDirections();
+    const int nc = e1 - e0;
+    out.contacts.assign(mIslands.edges.begin() + e0, mIslands.edges.begin() + e1);
+    out.impulses.assign(std::size_t(nc), PgsWarm<D>{});
+    std::vector<std::uint32_t> perBody(std::size_t(dynamicCount), 0);
+    for (int ci = 0; ci < nc; ++ci) {
+        const StepContact<D>& c = mContacts[std::size_t(out.contacts[std::size_t(ci)])];
+        ContactNode<D> node = makeContact<D>(localOf(c.bodyA), localOf(c.bodyB), c.point, c.normal, c.restitution,
+                                             c.friction);
+        for (int end : {node.a, node.b})
+            if (end < dynamicCount) ++perBody[std::size_t(end)];
+        const double sep = c.separation;
+        // Bounces are resolved at the time of impact (split into a velocity and a position answer):
+        //   - A contact that will not close within this step at its current approach speed is only speculative:
+        //     e = 0 and bias -sep/dt keep its gap >= 0 without any early rebound (it bounces in the step it closes).
+        //   - A contact that closes within the step bounces: the velocity solve targets v+ = e u (bias 0, no
+        //     position correction, which would add energy). With constant speed u over the step the surfaces
+        //     meet at t* = sep/u and then separate at e u, so the gap at the end of the step is e (u dt - sep);
+        //     moving the bodies by dt v+ would leave it sep + e u dt, (1 + e) sep too wide, and the apex up to
+        //     (1 + e) u dt too high. The positions therefore move by a second solve of the same island whose
+        //     bouncing contacts get bias -(1 + e) sep / dt (for sep < 0, a push-out of the overshoot, capped like
+        //     position correction); the velocities stay those of the first solve.
+        const double vrel = relativeNormalVelocity(rb, node);
+        const bool approachesFast = c.restitution > 0.0 && vrel < -def.restitutionThreshold;
+        const bool bounces = approachesFast && sep + dt * vrel < 0.0;
+        double moveBias;
+        if (bounces) {
+            node.bias = 0.0;
+            moveBias = std::min(def.maxCorrectionSpeed, -(1.0 + c.restitution) * sep / dt);
+            out.split = out.split || moveBias != 0.0;  // touching at the step's start (the cradle): one solve does both
+        } else if (sep > 0.0) {
+            if (approachesFast) node.restitution = 0.0;
+            node.bias = -sep / dt;
+            moveBias = node.bias;
+        } else {
+            node.bias = std::min(def.maxCorrectionSpeed, def.baumgarte * std::max(0.0, -sep - def.linearSlop) / dt);
+            moveBias = node.bias;
+        }
+        out.positionBias.push_back(moveBias);
+        out.nodes.push_back(node);
+        // Warm start: which of this contact's unknowns were basic last step, and the impulses they carried.
+        if (const ContactKey* hit = cache.find(keyOf(hooks, c))) {
+            appendWarmBasis(hit->basicMask, ci, nc, k, out.warm);
+            out.impulses[std::size_t(ci)].normal = hit->normalImpulse;
+            out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit->tangentImpulse);
+        }
+    }
+    for (std::uint32_t n : perBody) out.sumSquares += std::uint64_t(n) * n;
+    for (int d : local) localIndex[std::size_t(d)] = -1;  // leave the map clean for the next island
+}
+
+namespace world_step_detail {
+
+/// Work units of assembling an LCP of `rows` coupling rows whose bodies carry `sumSquares` (sum over movable bodies
+/// of its rows squared, the coupling entries J M^-1 J^T can have): the counting of core/step_budget.h.
+inline std::uint64_t assemblyWork(std::uint64_t rows, std::uint64_t sumSquares) {
+    return work::kPerRow * rows + work::kPerEntry * sumSquares;
+}
+
+/// ceil(total / count) as a cache cost, saturated at the largest 32-bit value.
+inline std::uint32_t perContactCost(std::uint64_t total, int count) {
+    const std::uint64_t c = count > 0 ? (total + std::uint64_t(count) - 1) / std::uint64_t(count) : 0;
+    return c > 0xffffffffu ? 0xffffffffu : std::uint32_t(c);
+}
+
+}  // namespace world_step_detail
+
+template <class D>
+template <class H>
+void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
+    using world_step_detail::isDynamic;
+    const auto& def = hooks.def();
+    auto& hot = hooks.bodies().hotArray();
+    const auto& cold = hooks.bodies().coldArray();
+    IslandSetup setup;
+    prepareIsland(hooks, job, worker, setup);
+    std::vector<ResolverBody<D>>& rb = setup.bodies;
+    std::vector<ContactNode<D>>& nodes = setup.nodes;
+    const int nc = int(nodes.size());
+    const int k = hooks.frictionDirections();
+    const bool budgeted = mControl.budget > 0;
+    StepStats& stats = job.stats;
+    ResolverOptions options;
+    options.restitutionThreshold = def.restitutionThreshold;
+    options.frictionDirections = k;
+    options.tangentDeadZone = def.tangentDeadZone;
+    options.acceptResidual = hooks.acceptResidual();
+    options.lcp = def.lcp;
+    // Work of this attempt: each LCP's assembly (counted here) and the solver's own units. With a budget, every
+    // solve gets what is left of the island's grant as its work limit.
+    std::uint64_t spent = 0;
+    const std::uint64_t sq = setup.sumSquares;
+    const std::uint64_t kDirs = std::uint64_t(D::frictionDirectionCount(k));
+    // Lemke checks its limit between pivots, so a solve is started only when what is left also covers its first
+    // factorisation: a warm start's block of g unknowns costs at most g^2 + n units (LcpResult::work: the factor's
+    // nonzeros), a cold start none.
+    auto limitFor = [&](std::uint64_t assembly, std::uint64_t firstFactor) -> bool {
+        if (budgeted && spent + assembly + firstFactor >= job.grant) return false;
+        spent += assembly;
+        if (!budgeted) return true;
+        const std::uint64_t left = job.grant - spent;
+        options.lcp.maxWork = def.lcp.maxWork > 0 ? std::min(def.lcp.maxWork, left) : left;
+        return true;
+    };
+    // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
+    // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
+    // takes about n/2 pivots, so 2n + 100 bounds a bad one (n = (k + 2) nc unknowns). def.lcp.maxPivots
+    // overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
+    // approximated instead); only a failure of another kind tries the frictionless LCP.
+    auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
+    auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
+                     const std::vector<int>* inWarm) {
+        Resolution res;
+        res.status = LcpStatus::pivot_limit;
+        const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
+        const std::uint64_t guess = inWarm ? std::uint64_t(inWarm->size()) : 0;
+        const std::uint64_t firstFactor = guess > 0 ? guess * guess + (kDirs + 2) * std::uint64_t(nc) : 0;
+        if (!limitFor(world_step_detail::assemblyWork(frictionRows, (kDirs + 1) * (kDirs + 1) * sq), firstFactor))
+            return res;
+        options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
+        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
+        res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
+        spent += res.work;
+        stats.lcpWork += res.work;
+        if (options.lcp.warmBasis) {
+            if (!res.warmStarted) ++stats.discardedGuesses;
+            if (usable(res)) stats.basisChange += basisDistance(*options.lcp.warmBasis, res.basis);
+        }
+        if (res.approximate) ++stats.acceptedInexact;
+        if (!usable(res) && !(budgeted && res.status == LcpStatus::pivot_limit)) {
+            ++stats.failedIslands;
+            const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
+            const std::uint64_t spentWork = res.work;
+            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc), sq), 0)) {
+                options.lcp.warmBasis = nullptr;
+                options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
+                res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
+                spent += res.work;
+                stats.lcpWork += res.work;
+                res.pivots += spentPivots;
+                res.work += spentWork;
+            }
+        }
+        stats.pivots += res.pivots;
+        stats.maxIslandPivots = std::max(stats.maxIslandPivots, res.pivots);
+        if (usable(res) || !budgeted) {  // (an attempt the budget cut short has no answer to measure)
+            stats.maxResidual = std::max(stats.maxResidual, res.residual);
+            stats.maxScaledResidual = std::max(stats.maxScaledResidual, res.scaledResidual);
+        }
+        return res;
+    };
+    const std::vector<ResolverBody<D>> before = setup.split ? rb : std::vector<ResolverBody<D>>{};
+    Resolution r = solve(rb, nodes, &setup.warm);
+    if (!setup.warm.empty()) ++stats.warmStartedIslands;
+    if (setup.split && usable(r)) {
+        // The position solve (see the bias comment in prepareIsland), warm-started from the velocity solve's basis.
+        std::vector<ResolverBody<D>> moved = before;
+        for (int ci = 0; ci < nc; ++ci) nodes[std::size_t(ci)].bias = setup.positionBias[std::size_t(ci)];
+        const Resolution rp = solve(moved, nodes, &r.basis);
+        if (usable(rp)) {
+            for (int kk = 0; kk < int(setup.local.size()); ++kk) {
+                const int d = setup.local[std::size_t(kk)];
+                if (!isDynamic(cold[std::size_t(d)])) continue;
+                mMove[std::size_t(d)] = {moved[std::size_t(kk)].velocity, moved[std::size_t(kk)].angularVelocity, true};
+            }
+        }
+    }
+    job.work += spent;
+    if (budgeted && spent > job.grant) stats.overrun += spent - job.grant;
+    if (!usable(r)) {  // no impulse this step: the approximation follows when there is a budget
+        job.state = budgeted ? (r.status == LcpStatus::pivot_limit ? Job::State::ranOut : Job::State::failed)
+                             : Job::State::unsolved;
+        if (!budgeted) ++stats.unsolvedIslands;
+        return;
+    }
+    job.state = Job::State::exact;
+    ++stats.exactIslands;
+    const bool friction = !r.tangentImpulses.empty();
+    const std::uint32_t cost = world_step_detail::perContactCost(spent, nc);
+    for (int ci = 0; ci < nc; ++ci) {
+        StepContact<D>& c = mContacts[std::size_t(setup.contacts[std::size_t(ci)])];
+        c.normalImpulse = r.impulses[std::size_t(ci)];
+        if (friction) c.tangentImpulse = D::fromComponents(&r.tangentImpulses[std::size_t(D::kDim * ci)]);
+        ContactKey key = keyOf(hooks, c);
+        key.cost = cost;
+        key.normalImpulse = c.normalImpulse;
+        for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = c.tangentImpulse[d];
+        job.cache.push_back(key);
+    }
+    storeBasis(r.basis, nc, k, friction, job.cache.data());
+    for (int kk = 0; kk < int(setup.local.size()); ++kk) {
+        const int d = setup.local[std::size_t(kk)];
+        if (!isDynamic(cold[std::size_t(d)])) continue;
+        hot[std::size_t(d)].velocity = rb[std::size_t(kk)].velocity;
+        hot[std::size_t(d)].angularVelocity = rb[std::size_t(kk)].angularVelocity;
+    }
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
+    using world_step_detail::isDynamic;
+    const auto& def = hooks.def();
+    auto& hot = hooks.bodies().hotArray();
+    const auto& cold = hooks.bodies().coldArray();
+    IslandSetup setup;
+    prepareIsland(hooks, job, worker, setup);
+    const int nc = int(setup.nodes.size());
+    const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
+    const int sweeps = work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps));
+    const PgsResult<D> p = solvePgs(setup.bodies, setup.nodes, setup.impulses, sweeps, def.restitutionThreshold);
+    job.work += job.minimum - std::uint64_t(work::kMinSweeps) * job.sweepWork + std::uint64_t(sweeps) * job.sweepWork;
+    job.state = Job::State::approximate;
+    ++job.stats.approximateIslands;
+    job.stats.maxApproximateResidual = std::max(job.stats.maxApproximateResidual, p.residual);
+    // What the exact solve is predicted to cost next step: twice the share it ran out of, or (skipped) a little
+    // less than predicted, so that an island the budget cannot afford now is tried again after a few steps.
+    const std::uint64_t predicted = job.grant > 0 ? 2 * job.grant : job.raw - job.raw / 4;
+    const std::uint32_t cost = world_step_detail::perContactCost(predicted, nc);
+    const int k = D::frictionDirectionCount(hooks.frictionDirections());
+    for (int ci = 0; ci < nc; ++ci) {
+        StepContact<D>& c = mContacts[std::size_t(setup.contacts[std::size_t(ci)])];
+        c.normalImpulse = p.normal[std::size_t(ci)];
+        c.tangentImpulse = p.tangent[std::size_t(ci)];
+        ContactKey key = keyOf(hooks, c);
+        key.cost = cost;
+        key.normalImpulse = c.normalImpulse;
+        for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = c.tangentImpulse[d];
+        // A basis guess for the exact solve of a later step: the normal where it pushes, the (at most two)
+        // pyramid directions nearest the friction impulse, and the slack where the impulse is on the cone's rim.
+        if (c.normalImpulse > 0.0) {
+            key.basicMask |= 1u;
+            double best[2] = {0.0, 0.0};
+            int which[2] = {-1, -1};
+            for (int m = 0; m < k; ++m) {
+                const double dp = D::dot(D::tangentDirection(c.normal, m, k), c.tangentImpulse);
+                const int slot = dp > best[0] ? 0 : dp > best[1] ? 1 : 2;
+                if (slot == 0) {
+                    best[1] = best[0];
+                    which[1] = which[0];
+                }
+                if (slot < 2) {
+                    best[slot] = dp;
+                    which[slot] = m;
+                }
+            }
+            for (int w : which)
+                if (w >= 0) key.basicMask |= 2u << w;
+            const double t = std::sqrt(D::dot(c.tangentImpulse, c.tangentImpulse));
+            if (t >= c.friction * c.normalImpulse * (1.0 - 1e-9) && t > 0.0) key.basicMask |= 2u << k;
+        }
+        job.cache.push_back(key);
+    }
+    for (int kk = 0; kk < int(setup.local.size()); ++kk) {
+        const int d = setup.local[std::size_t(kk)];
+        if (!isDynamic(cold[std::size_t(d)])) continue;
+        hot[std::size_t(d)].velocity = setup.bodies[std::size_t(kk)].velocity;
+        hot[std::size_t(d)].angularVelocity = setup.bodies[std::size_t(kk)].angularVelocity;
+    }
+}
+
+}  // namespace unison
