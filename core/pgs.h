@@ -40,60 +40,64 @@ struct PgsResult {
 
 namespace pgs_detail {
 
-/// One row: a direction at a contact, acting +dir on body a and -dir on body b.
+/// A body's velocities during the sweeps, packed (the island's ResolverBody array holds more than a sweep reads).
 template <class D>
-struct Row {
-    typename D::Vec dir = D::zeroVec();
-    typename D::Ang angA = D::zeroAng(), angB = D::zeroAng();        // r_a x dir, r_b x dir
-    typename D::Ang invIangA = D::zeroAng(), invIangB = D::zeroAng();  // I_a^-1 (r_a x dir), I_b^-1 (r_b x dir)
-    double invK = 0.0;  // 1 / (effective mass's inverse), 0 when no body can move along the row
+struct Motion {
+    typename D::Vec v;
+    typename D::Ang w;
 };
 
-template <class D>
-Row<D> makeRow(const std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const typename D::Vec& dir) {
-    const ResolverBody<D>& A = bodies[std::size_t(c.a)];
-    const ResolverBody<D>& B = bodies[std::size_t(c.b)];
-    Row<D> r;
-    r.dir = dir;
-    r.angA = D::cross(D::sub(c.point, A.position), dir);
-    r.angB = D::cross(D::sub(c.point, B.position), dir);
-    r.invIangA = D::applyInvInertia(A.invInertia, r.angA);
-    r.invIangB = D::applyInvInertia(B.invInertia, r.angB);
-    const double k = A.invMass + B.invMass + D::angDot(r.angA, r.invIangA) + D::angDot(r.angB, r.invIangB);
-    r.invK = k > 0.0 ? 1.0 / k : 0.0;
-    return r;
+/// One contact's rows, prepared once: row 0 the normal, rows 1..T the tangents. A row acts +dir on body a and -dir
+/// on body b; invIangA/invIangB are the angular velocity change per unit impulse. (2D: 168 bytes, read every
+/// sweep, so nothing is stored that a multiplication can give.)
+template <class D, int T>
+struct Contact {
+    int a = 0, b = 0;
+    double mu = 0.0;      // Coulomb coefficient
+    double target = 0.0;  // normal row: w = v_rel + target (eq. (19): e v_rel^- - bias)
+    double invMassA = 0.0, invMassB = 0.0;
+    typename D::Vec dir[T + 1];
+    typename D::Ang angA[T + 1], angB[T + 1], invIangA[T + 1], invIangB[T + 1];
+    double invK[T + 1];   // 1 / the row's effective inverse mass (0 when neither body can move along it)
+    double k0[T + 1];     // k0[m]: change of the normal row's velocity per unit impulse on tangent row m
+    double f[T + 1];      // accumulated impulses
+};
+
+/// Velocity of body a relative to body b along row r of contact c.
+template <class D, int T>
+double rowVelocity(const Contact<D, T>& c, int r, const Motion<D>& A, const Motion<D>& B) {
+    return D::dot(c.dir[r], D::sub(A.v, B.v)) + (D::angDot(c.angA[r], A.w) - D::angDot(c.angB[r], B.w));
 }
 
-/// Velocity of body a relative to body b along the row.
-template <class D>
-double rowVelocity(const std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const Row<D>& r) {
-    const ResolverBody<D>& A = bodies[std::size_t(c.a)];
-    const ResolverBody<D>& B = bodies[std::size_t(c.b)];
-    return (D::dot(r.dir, A.velocity) + D::angDot(r.angA, A.angularVelocity)) -
-           (D::dot(r.dir, B.velocity) + D::angDot(r.angB, B.angularVelocity));
+/// Applies impulse p along row r (+ to a, - to b).
+template <class D, int T>
+void applyRow(const Contact<D, T>& c, int r, double p, Motion<D>& A, Motion<D>& B) {
+    A.v = D::add(A.v, D::scale(p * c.invMassA, c.dir[r]));
+    A.w = D::angAdd(A.w, D::angScale(p, c.invIangA[r]));
+    B.v = D::sub(B.v, D::scale(p * c.invMassB, c.dir[r]));
+    B.w = D::angAdd(B.w, D::angScale(-p, c.invIangB[r]));
 }
 
-/// Applies impulse p along the row (+ to a, - to b).
-template <class D>
-void applyRow(std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const Row<D>& r, double p) {
-    ResolverBody<D>& A = bodies[std::size_t(c.a)];
-    ResolverBody<D>& B = bodies[std::size_t(c.b)];
-    A.velocity = D::add(A.velocity, D::scale(A.invMass * p, r.dir));
-    A.angularVelocity = D::angAdd(A.angularVelocity, D::angScale(p, r.invIangA));
-    B.velocity = D::sub(B.velocity, D::scale(B.invMass * p, r.dir));
-    B.angularVelocity = D::angAdd(B.angularVelocity, D::angScale(-p, r.invIangB));
+/// Scales the tangent impulses f[1..T] of c onto the disc |f_t| <= limit.
+template <class D, int T>
+void project(double* f, double limit) {
+    if constexpr (T == 1) {
+        f[1] = std::min(limit, std::max(-limit, f[1]));
+    } else {
+        double len2 = 0.0;
+        for (int m = 1; m <= T; ++m) len2 += f[m] * f[m];
+        if (len2 > limit * limit) {
+            const double scale = limit / std::sqrt(len2);
+            for (int m = 1; m <= T; ++m) f[m] *= scale;
+        }
+    }
 }
 
 /// The D::kDim - 1 unit tangents of a normal: in 2D perp(n), in 3D the pyramid's first direction and n x it.
 template <class D>
-int tangentBasis(const typename D::Vec& n, typename D::Vec* out) {
+void tangentBasis(const typename D::Vec& n, typename D::Vec* out) {
     out[0] = D::tangentDirection(n, 0, D::frictionDirectionCount(4));
-    if constexpr (D::kDim == 3) {
-        out[1] = D::cross(n, out[0]);
-        return 2;
-    } else {
-        return 1;
-    }
+    if constexpr (D::kDim == 3) out[1] = D::cross(n, out[0]);
 }
 
 }  // namespace pgs_detail
@@ -110,84 +114,111 @@ constexpr int pgsTangentRows() {
 template <class D>
 PgsResult<D> solvePgs(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& nodes,
                       const std::vector<PgsWarm<D>>& warm, int sweeps, double restitutionThreshold) {
-    using pgs_detail::Row;
-    using Vec = typename D::Vec;
     constexpr int T = pgsTangentRows<D>();
+    using Contact = pgs_detail::Contact<D, T>;
+    using Motion = pgs_detail::Motion<D>;
     const std::size_t nc = nodes.size();
-    std::vector<Row<D>> rows(nc * std::size_t(T + 1));  // per contact: the normal row, then its tangent rows
-    std::vector<double> target(nc), fn(nc, 0.0), ft(nc * std::size_t(T), 0.0);
+    std::vector<Motion> motion(ioBodies.size());
+    for (std::size_t k = 0; k < ioBodies.size(); ++k) motion[k] = {ioBodies[k].velocity, ioBodies[k].angularVelocity};
+    std::vector<Contact> rows(nc);
     for (std::size_t i = 0; i < nc; ++i) {
-        const ContactNode<D>& c = nodes[i];
-        Row<D>* r = &rows[i * std::size_t(T + 1)];
-        r[0] = pgs_detail::makeRow(ioBodies, c, c.normal);
-        Vec t[2];
-        pgs_detail::tangentBasis<D>(c.normal, t);
-        for (int m = 0; m < T; ++m) r[1 + m] = pgs_detail::makeRow(ioBodies, c, t[m]);
+        const ContactNode<D>& node = nodes[i];
+        const ResolverBody<D>& A = ioBodies[std::size_t(node.a)];
+        const ResolverBody<D>& B = ioBodies[std::size_t(node.b)];
+        Contact& c = rows[i];
+        c.a = node.a;
+        c.b = node.b;
+        c.mu = node.friction;
+        c.invMassA = A.invMass;
+        c.invMassB = B.invMass;
+        typename D::Vec t[2];
+        pgs_detail::tangentBasis<D>(node.normal, t);
+        const typename D::Vec rA = D::sub(node.point, A.position), rB = D::sub(node.point, B.position);
+        for (int r = 0; r <= T; ++r) {
+            const typename D::Vec dir = r == 0 ? node.normal : t[r - 1];
+            c.dir[r] = dir;
+            c.angA[r] = D::cross(rA, dir);
+            c.angB[r] = D::cross(rB, dir);
+            c.invIangA[r] = D::applyInvInertia(A.invInertia, c.angA[r]);
+            c.invIangB[r] = D::applyInvInertia(B.invInertia, c.angB[r]);
+            const double k = A.invMass + B.invMass + D::angDot(c.angA[r], c.invIangA[r]) + D::angDot(c.angB[r], c.invIangB[r]);
+            c.invK[r] = k > 0.0 ? 1.0 / k : 0.0;
+            c.f[r] = 0.0;
+        }
+        for (int m = 1; m <= T; ++m)
+            c.k0[m] = (A.invMass + B.invMass) * D::dot(c.dir[0], c.dir[m]) + D::angDot(c.angA[0], c.invIangA[m]) +
+                      D::angDot(c.angB[0], c.invIangB[m]);
         // eq. (19): w = v_rel^+ + e v_rel^- - bias, with v_rel^- the velocity before any impulse of this step.
-        const double v0 = pgs_detail::rowVelocity(ioBodies, c, r[0]);
-        target[i] = (v0 < -restitutionThreshold ? c.restitution * v0 : 0.0) - c.bias;
+        const double v0 = pgs_detail::rowVelocity(c, 0, motion[std::size_t(c.a)], motion[std::size_t(c.b)]);
+        c.target = (v0 < -restitutionThreshold ? node.restitution * v0 : 0.0) - node.bias;
     }
     // Warm start: last step's impulses, the friction part projected onto this step's tangents and disc.
     for (std::size_t i = 0; i < nc && !warm.empty(); ++i) {
-        const ContactNode<D>& c = nodes[i];
-        const Row<D>* r = &rows[i * std::size_t(T + 1)];
-        fn[i] = std::max(0.0, warm[i].normal);
-        pgs_detail::applyRow(ioBodies, c, r[0], fn[i]);
-        double len2 = 0.0;
-        for (int m = 0; m < T; ++m) {
-            ft[i * T + std::size_t(m)] = D::dot(warm[i].tangent, r[1 + m].dir);
-            len2 += ft[i * T + std::size_t(m)] * ft[i * T + std::size_t(m)];
-        }
-        const double limit = c.friction * fn[i];
-        const double scale = len2 > limit * limit ? limit / std::sqrt(len2) : 1.0;
-        for (int m = 0; m < T; ++m) {
-            ft[i * T + std::size_t(m)] *= scale;
-            pgs_detail::applyRow(ioBodies, c, r[1 + m], ft[i * T + std::size_t(m)]);
-        }
+        Contact& c = rows[i];
+        c.f[0] = std::max(0.0, warm[i].normal);
+        for (int m = 1; m <= T; ++m) c.f[m] = D::dot(warm[i].tangent, c.dir[m]);
+        pgs_detail::project<D, T>(c.f, c.mu * c.f[0]);
+        for (int r = 0; r <= T; ++r) pgs_detail::applyRow(c, r, c.f[r], motion[std::size_t(c.a)], motion[std::size_t(c.b)]);
     }
     for (int s = 0; s < sweeps; ++s) {
-        for (std::size_t i = 0; i < nc; ++i) {
-            const ContactNode<D>& c = nodes[i];
-            const Row<D>* r = &rows[i * std::size_t(T + 1)];
-            double* f = &ft[i * std::size_t(T)];
-            // Friction first (against the normal impulse of the last sweep), projected onto the disc.
-            double next[2] = {0.0, 0.0}, len2 = 0.0;
-            for (int m = 0; m < T; ++m) {
-                next[m] = f[m] - pgs_detail::rowVelocity(ioBodies, c, r[1 + m]) * r[1 + m].invK;
-                len2 += next[m] * next[m];
+        for (Contact& c : rows) {
+            Motion& A = motion[std::size_t(c.a)];
+            Motion& B = motion[std::size_t(c.b)];
+            // The contact's relative motion once: the friction rows (against the normal impulse of the last sweep,
+            // projected onto the disc), then the normal row with its velocity moved by what friction changed, then
+            // both bodies once with the sum.
+            const typename D::Vec dv = D::sub(A.v, B.v);
+            double next[T + 1], delta[T + 1];
+            for (int m = 1; m <= T; ++m) {
+                const double v = D::dot(c.dir[m], dv) + (D::angDot(c.angA[m], A.w) - D::angDot(c.angB[m], B.w));
+                next[m] = c.f[m] - v * c.invK[m];
             }
-            const double limit = c.friction * fn[i];
-            const double scale = len2 > limit * limit ? (len2 > 0.0 ? limit / std::sqrt(len2) : 0.0) : 1.0;
-            for (int m = 0; m < T; ++m) {
-                const double v = next[m] * scale;
-                pgs_detail::applyRow(ioBodies, c, r[1 + m], v - f[m]);
-                f[m] = v;
+            pgs_detail::project<D, T>(next, c.mu * c.f[0]);
+            double vn = D::dot(c.dir[0], dv) + (D::angDot(c.angA[0], A.w) - D::angDot(c.angB[0], B.w));
+            for (int m = 1; m <= T; ++m) {
+                delta[m] = next[m] - c.f[m];
+                c.f[m] = next[m];
+                vn += c.k0[m] * delta[m];
             }
-            const double vn = pgs_detail::rowVelocity(ioBodies, c, r[0]);
-            const double n = std::max(0.0, fn[i] - (vn + target[i]) * r[0].invK);
-            pgs_detail::applyRow(ioBodies, c, r[0], n - fn[i]);
-            fn[i] = n;
+            const double n = std::max(0.0, c.f[0] - (vn + c.target) * c.invK[0]);
+            delta[0] = n - c.f[0];
+            c.f[0] = n;
+            typename D::Vec p = D::scale(delta[0], c.dir[0]);
+            typename D::Ang wa = D::angScale(delta[0], c.invIangA[0]), wb = D::angScale(delta[0], c.invIangB[0]);
+            for (int m = 1; m <= T; ++m) {
+                p = D::add(p, D::scale(delta[m], c.dir[m]));
+                wa = D::angAdd(wa, D::angScale(delta[m], c.invIangA[m]));
+                wb = D::angAdd(wb, D::angScale(delta[m], c.invIangB[m]));
+            }
+            A.v = D::add(A.v, D::scale(c.invMassA, p));
+            A.w = D::angAdd(A.w, wa);
+            B.v = D::sub(B.v, D::scale(c.invMassB, p));
+            B.w = D::angAdd(B.w, D::angScale(-1.0, wb));
         }
     }
     PgsResult<D> out;
-    out.normal = fn;
+    out.normal.resize(nc);
     out.tangent.assign(nc, D::zeroVec());
     for (std::size_t i = 0; i < nc; ++i) {
-        const ContactNode<D>& c = nodes[i];
-        const Row<D>* r = &rows[i * std::size_t(T + 1)];
-        const double w = pgs_detail::rowVelocity(ioBodies, c, r[0]) + target[i];
-        double res = std::fabs(std::min(fn[i], w));
+        const Contact& c = rows[i];
+        const Motion& A = motion[std::size_t(c.a)];
+        const Motion& B = motion[std::size_t(c.b)];
+        out.normal[i] = c.f[0];
+        double res = std::fabs(std::min(c.f[0], pgs_detail::rowVelocity(c, 0, A, B) + c.target));
         double len2 = 0.0, slip2 = 0.0;
-        for (int m = 0; m < T; ++m) {
-            const double f = ft[i * T + std::size_t(m)];
-            out.tangent[i] = D::add(out.tangent[i], D::scale(f, r[1 + m].dir));
-            len2 += f * f;
-            const double v = pgs_detail::rowVelocity(ioBodies, c, r[1 + m]);
+        for (int m = 1; m <= T; ++m) {
+            out.tangent[i] = D::add(out.tangent[i], D::scale(c.f[m], c.dir[m]));
+            len2 += c.f[m] * c.f[m];
+            const double v = pgs_detail::rowVelocity(c, m, A, B);
             slip2 += v * v;
         }
-        const double inside = c.friction * fn[i] - std::sqrt(len2);
+        const double inside = c.mu * c.f[0] - std::sqrt(len2);
         if (inside > 0.0) res = std::max(res, std::min(inside, std::sqrt(slip2)));
         out.residual = std::max(out.residual, res);
+    }
+    for (std::size_t k = 0; k < ioBodies.size(); ++k) {
+        ioBodies[k].velocity = motion[k].v;
+        ioBodies[k].angularVelocity = motion[k].w;
     }
     return out;
 }

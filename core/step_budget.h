@@ -17,8 +17,9 @@ namespace work {
 
 /// Nanoseconds one work unit takes on the reference machine (2-core x86-64 CI class, Release build), measured once
 /// on the bench scenes (bench/bench_budget prints each scene's own ns per unit beside it). Never measured at run
-/// time: it only converts a budget a user thinks of in milliseconds.
-constexpr double kNsPerUnit = 1.0;
+/// time: it only converts a budget a user thinks of in milliseconds. It is the Lemke solver's unit (LcpResult::work)
+/// as measured there; every weight below was fitted to the same scale (docs/budget.md has the fit).
+constexpr double kNsPerUnit = 1.1;
 
 /// Work units of `ms` milliseconds on the reference machine (kNsPerUnit), rounded down; 0 for ms <= 0.
 std::uint64_t fromMilliseconds(double ms);
@@ -27,18 +28,20 @@ double toMilliseconds(std::uint64_t units);
 
 // Weights of the stages (units per item). Lemke counts its own units (LcpResult::work); these put everything else
 // on the same scale.
-constexpr std::uint64_t kPerBody = 60;          ///< gravity, integration, sleep test, per body
-constexpr std::uint64_t kPerShape = 60;         ///< bounding box and broadphase entry, per shape
-constexpr std::uint64_t kPerPair = 40;          ///< broadphase pair bookkeeping (narrowphase: the world's pairWork)
-constexpr std::uint64_t kNarrowPair2 = 100;     ///< 2D narrowphase, per pair
-constexpr std::uint64_t kPerFeaturePair2 = 20;  ///< 2D narrowphase, per feature pair compared
-constexpr std::uint64_t kNarrowPair3 = 200;     ///< 3D narrowphase, per pair
-constexpr std::uint64_t kPerFeaturePair3 = 10;  ///< 3D narrowphase, per face-vertex or edge-edge test or candidate
-constexpr std::uint64_t kPerContact = 150;      ///< contact record, island edge, cache lookup, touch event
-constexpr std::uint64_t kPerRow = 60;           ///< LCP assembly, per row (a normal or tangent direction)
-constexpr std::uint64_t kPerEntry = 8;          ///< LCP assembly, per coupling entry (row pair sharing a body)
+constexpr std::uint64_t kPerBody = 50;          ///< gravity, bounding box, integration, sleep test, per body
+constexpr std::uint64_t kPerShape = 10;         ///< broadphase entry, per shape
+constexpr std::uint64_t kPerPair = 20;          ///< broadphase pair bookkeeping (narrowphase: the world's pairWork)
+constexpr std::uint64_t kNarrowPair2 = 110;     ///< 2D narrowphase, per pair
+constexpr std::uint64_t kPerFeaturePair2 = 8;   ///< 2D narrowphase, per feature pair compared
+constexpr std::uint64_t kNarrowPair3 = 60;      ///< 3D narrowphase, per pair
+constexpr std::uint64_t kPerFeaturePair3 = 5;   ///< 3D narrowphase, per face-vertex or edge-edge test or candidate
+constexpr std::uint64_t kPerContact = 70;       ///< contact record, island edge, cache lookups, touch event
+constexpr std::uint64_t kPerIsland = 1300;      ///< an exact attempt's fixed cost (set-up, validation, buffers)
+constexpr std::uint64_t kPerRow = 120;          ///< LCP assembly, per row (a normal or tangent direction)
+constexpr std::uint64_t kPerEntry = 1;          ///< LCP assembly, per coupling entry (row pair sharing a body)
+constexpr std::uint64_t kPgsPerIsland = 700;    ///< approximation: fixed cost per island
 constexpr std::uint64_t kPgsSetupPerRow = 40;   ///< approximation: Jacobians and effective masses, per row
-constexpr std::uint64_t kPgsSweepPerRow = 12;   ///< approximation: one projected Gauss-Seidel update, per row
+constexpr std::uint64_t kPgsSweepPerRow = 13;   ///< approximation: one projected Gauss-Seidel update, per row
 
 /// Sweeps every approximate island gets (its reserve) and the most it gets from leftover budget.
 constexpr int kMinSweeps = 8;

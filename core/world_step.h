@@ -445,7 +445,7 @@ void WorldStep<D>::planIslands(H& hooks) {
         job.contactCount = e1 - e0;
         const std::uint64_t rows = kRows * std::uint64_t(job.contactCount);
         job.sweepWork = work::kPgsSweepPerRow * rows;
-        job.minimum = work::kPgsSetupPerRow * rows + std::uint64_t(work::kMinSweeps) * job.sweepWork;
+        job.minimum = work::kPgsPerIsland + work::kPgsSetupPerRow * rows + std::uint64_t(work::kMinSweeps) * job.sweepWork;
         if (mControl.budget > 0) {
             job.raw = predictedNeed(hooks, isl);
             job.need = job.raw + job.raw / 4;  // a quarter more as margin

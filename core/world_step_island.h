@@ -126,7 +126,7 @@ namespace world_step_detail {
 /// Work units of assembling an LCP of `rows` coupling rows whose bodies carry `sumSquares` (sum over movable bodies
 /// of its rows squared, the coupling entries J M^-1 J^T can have): the counting of core/step_budget.h.
 inline std::uint64_t assemblyWork(std::uint64_t rows, std::uint64_t sumSquares) {
-    return work::kPerRow * rows + work::kPerEntry * sumSquares;
+    return work::kPerIsland + work::kPerRow * rows + work::kPerEntry * sumSquares;
 }
 
 /// ceil(total / count) as a cache cost, saturated at the largest 32-bit value.
