@@ -6,8 +6,31 @@
 
 namespace unison {
 
+namespace {
+
+/// Sorts a sequence by a total order. The step hands over sequences that are nearly sorted already (contacts come in
+/// body order): those take an insertion sort, O(n + inversions), the rest std::sort. Same result either way.
+template <class It>
+void sortNearlySorted(It first, It last) {
+    std::size_t descents = 0;
+    for (It it = first; it != last && std::next(it) != last; ++it) descents += *std::next(it) < *it ? 1 : 0;
+    if (descents == 0) return;
+    if (descents * 64 > std::size_t(last - first)) {
+        std::sort(first, last);
+        return;
+    }
+    for (It it = std::next(first); it != last; ++it) {
+        auto value = std::move(*it);
+        It hole = it;
+        for (; hole != first && value < *std::prev(hole); --hole) *hole = std::move(*std::prev(hole));
+        *hole = std::move(value);
+    }
+}
+
+}  // namespace
+
 void WarmStartCache::replace(std::vector<ContactKey>& entries) {
-    std::sort(entries.begin(), entries.end());
+    sortNearlySorted(entries.begin(), entries.end());
     mEntries.swap(entries);
 }
 
@@ -21,7 +44,7 @@ BodyId touchId(std::uint64_t key) { return BodyId{std::uint32_t(key & 0xffffffff
 
 void touchEvents(TouchPairs& now, const TouchPairs& before, std::vector<TouchEvent>& outBegin,
                  std::vector<TouchEvent>& outEnd) {
-    std::sort(now.begin(), now.end());
+    sortNearlySorted(now.begin(), now.end());
     now.erase(std::unique(now.begin(), now.end()), now.end());
     outBegin.clear();
     outEnd.clear();

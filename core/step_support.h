@@ -49,6 +49,19 @@ public:
         const auto it = std::lower_bound(mEntries.begin(), mEntries.end(), key);
         return it != mEntries.end() && it->sameKey(key) ? &*it : nullptr;
     }
+    /// Index of the entry with the same key, or -1. Looks at the few entries from `hint` on first (a step asks in
+    /// nearly ascending key order, so the previous answer + 1 is usually right), then binary-searches.
+    int findFrom(const ContactKey& key, int hint) const {
+        const int n = int(mEntries.size());
+        for (int i = hint < 0 ? 0 : hint, end = std::min(n, i + 4); i < end; ++i) {
+            if (mEntries[std::size_t(i)].sameKey(key)) return i;
+            if (key < mEntries[std::size_t(i)]) break;
+        }
+        const ContactKey* hit = find(key);
+        return hit ? int(hit - mEntries.data()) : -1;
+    }
+    /// The entry at an index findFrom() returned.
+    const ContactKey& at(int index) const { return mEntries[std::size_t(index)]; }
     /// Replaces the contents with `entries` (sorted here).
     void replace(std::vector<ContactKey>& entries);
     /// Drops the entries of body slot `slot1` (BodyId::index1), keeping the order of the rest. A destroyed body's

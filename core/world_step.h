@@ -153,10 +153,36 @@ private:
         Ang angularVelocity = D::zeroAng();
         bool set = false;
     };
-    /// Scratch of one worker thread; nothing in it outlives an island.
+    /// An island made ready for a solve (prepareIsland): local bodies, contact nodes and warm starts.
+    struct IslandSetup {
+        std::vector<int> local;                 // local index -> dense body: the island's dynamic bodies, then the rest
+        std::vector<ResolverBody<D>> bodies;    // (local)
+        std::vector<int> contacts;              // (contacts) indices into mContacts, island order
+        std::vector<ContactNode<D>> nodes;      // (contacts)
+        std::vector<double> positionBias;       // (contacts) the position solve's bias (differs on bouncing contacts)
+        bool split = false;                     // some contact bounces this step: positions need their own solve
+        std::vector<int> warm;                  // the friction LCP's guessed basis from the cache
+        std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
+        std::vector<ContactKey> keys;           // (contacts) the answer's cache entries, being built
+        std::uint64_t sumSquares = 0;           // sum over movable bodies of (contacts on the body)^2
+        void clear() {
+            local.clear();
+            bodies.clear();
+            contacts.clear();
+            nodes.clear();
+            positionBias.clear();
+            split = false;
+            warm.clear();
+            impulses.clear();
+            keys.clear();
+            sumSquares = 0;
+        }
+    };
+    /// Scratch of one worker thread; nothing in it outlives an island (its buffers keep their capacity).
     struct Worker {
         LemkeSolver solver;
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
+        IslandSetup setup;            // the island being solved
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -172,11 +198,8 @@ private:
         std::uint64_t extra = 0;      // approximation share beyond the reserve
         std::uint64_t work = 0;       // spent so far
         State state = State::pending;
-        std::vector<ContactKey> cache;  // this island's new cache entries, contact order
         StepStats stats;                // this island's counts
     };
-    /// An island made ready for a solve: local bodies, contact nodes and warm starts (world_step_island.h).
-    struct IslandSetup;
 
     template <class H>
     void applyGravity(H& hooks);
@@ -192,15 +215,14 @@ private:
     void mergeResults(H& hooks);
 
     // The island solve unit (world_step_island.h): explicit inputs (the job, the hooks' bodies of its island) and
-    // outputs (the job's cache entries and statistics, its bodies' velocities, its contacts' impulses), any worker.
+    // outputs (the job's statistics, its bodies' velocities, its contacts' impulses and new cache entries), on any
+    // worker.
     template <class H>
-    void prepareIsland(H& hooks, const Job& job, Worker& worker, IslandSetup& out) const;
+    void prepareIsland(H& hooks, const Job& job, Worker& worker) const;
     template <class H>
     void solveIsland(H& hooks, Job& job, Worker& worker);
     template <class H>
     void approximateIsland(H& hooks, Job& job, Worker& worker);
-    template <class H>
-    void storeAnswer(H& hooks, Job& job, const IslandSetup& setup) const;
     template <class H>
     ContactKey keyOf(H& hooks, const StepContact<D>& c) const;
     template <class H>
@@ -221,6 +243,10 @@ private:
     std::unique_ptr<ThreadPool> mPool;    // the built-in pool (workerCount > 1 and no job system of the world's)
     std::vector<Worker> mWorkers;         // one per worker index
     std::vector<StepContact<D>> mContacts;
+    std::vector<int> mHit;                // per contact: its warm-start cache entry, or -1
+    std::vector<ContactKey> mNewEntry;    // per contact: its entry for the next step's cache (if mHasEntry)
+    std::vector<std::uint8_t> mHasEntry;  // per contact: 1 when its island wrote mNewEntry
+    std::vector<StepContact<D>> mSlots;   // the narrowphase's points, kSlots per broadphase pair
     Islands mIslands;
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<Job> mJobs;               // awake islands with contacts, island order
@@ -350,7 +376,8 @@ void WorldStep<D>::findContacts(H& hooks) {
     using Manifold = decltype(hooks.narrowphase(cold[0].shapes[0], xfs[0], cold[0].shapes[0], xfs[0], 0.0, mStats));
     constexpr int kSlots = int(std::tuple_size<std::decay_t<decltype(std::declval<Manifold>().points)>>::value);
     const int np = int(pairs.size());
-    std::vector<StepContact<D>> slots(std::size_t(np) * kSlots);
+    if (mSlots.size() < std::size_t(np) * kSlots) mSlots.resize(std::size_t(np) * kSlots);  // kept between steps
+    StepContact<D>* slots = mSlots.data();
     std::vector<int> counts(std::size_t(np), 0);
     std::vector<std::uint64_t> pairWork(std::size_t(np), 0);
     for (Worker& w : mWorkers) w.collide = StepStats{};  // (workers created later start empty too)
@@ -374,6 +401,7 @@ void WorldStep<D>::findContacts(H& hooks) {
                                                                  mp.point, hooks.normalOf(m, k))) >= band)
                 continue;
             StepContact<D>& c = slots[std::size_t(i) * kSlots + std::size_t(kept++)];
+            c = StepContact<D>{};
             c.point = mp.point;
             c.normal = hooks.normalOf(m, k);
             c.separation = mp.separation;
@@ -419,6 +447,15 @@ void WorldStep<D>::planIslands(H& hooks) {
     for (const StepContact<D>& c : mContacts) edges.push_back({c.bodyA, c.bodyB});
     mIslands = buildIslands(nb, joins, edges);
     mStats.islands = mIslands.count();
+    // Every contact's warm-start entry, looked up once (contacts come in nearly ascending key order).
+    mHit.resize(mContacts.size());
+    mNewEntry.resize(mContacts.size());
+    mHasEntry.assign(mContacts.size(), 0);
+    for (std::size_t ci = 0, hint = 0; ci < mContacts.size(); ++ci) {
+        const int hit = cache.findFrom(keyOf(hooks, mContacts[ci]), int(hint));
+        mHit[ci] = hit;
+        if (hit >= 0) hint = std::size_t(hit) + 1;
+    }
     mAwake.assign(std::size_t(mIslands.count()), 0);
     mJobs.clear();
     mSleepingCache.clear();
@@ -431,8 +468,8 @@ void WorldStep<D>::planIslands(H& hooks) {
         for (int j = b0; j < b1; ++j) anyAwake = anyAwake || cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
         if (!anyAwake) {  // a sleeping island keeps its warm-start data
             for (int j = e0; j < e1; ++j) {
-                const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(mIslands.edges[std::size_t(j)])]));
-                if (hit) mSleepingCache.push_back(*hit);
+                const int hit = mHit[std::size_t(mIslands.edges[std::size_t(j)])];
+                if (hit >= 0) mSleepingCache.push_back(cache.at(hit));
             }
             continue;
         }
@@ -464,9 +501,9 @@ std::uint64_t WorldStep<D>::predictedNeed(H& hooks, int isl) const {
     std::uint64_t known = 0;
     int unknown = 0;
     for (int j = e0; j < e1; ++j) {
-        const ContactKey* hit = cache.find(keyOf(hooks, mContacts[std::size_t(mIslands.edges[std::size_t(j)])]));
-        if (hit && hit->cost > 0)
-            known += hit->cost;
+        const int hit = mHit[std::size_t(mIslands.edges[std::size_t(j)])];
+        if (hit >= 0 && cache.at(hit).cost > 0)
+            known += cache.at(hit).cost;
         else
             ++unknown;
     }
@@ -603,8 +640,12 @@ void WorldStep<D>::mergeResults(H& hooks) {
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
     std::vector<ContactKey> newCache;
     newCache.swap(mSleepingCache);
-    for (Job& job : mJobs) {  // island order
-        newCache.insert(newCache.end(), job.cache.begin(), job.cache.end());
+    for (Job& job : mJobs) {  // island order, contacts in island order
+        const int e0 = mIslands.edgeStart[std::size_t(job.island)], e1 = mIslands.edgeStart[std::size_t(job.island) + 1];
+        for (int j = e0; j < e1; ++j) {
+            const int ci = mIslands.edges[std::size_t(j)];
+            if (mHasEntry[std::size_t(ci)]) newCache.push_back(mNewEntry[std::size_t(ci)]);
+        }
         world_step_detail::accumulate(mStats, job.stats);
         mStats.work += job.work;
     }

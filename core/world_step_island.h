@@ -15,19 +15,6 @@
 namespace unison {
 
 template <class D>
-struct WorldStep<D>::IslandSetup {
-    std::vector<int> local;                 // local index -> dense body: the island's dynamic bodies, then the rest
-    std::vector<ResolverBody<D>> bodies;    // (local)
-    std::vector<int> contacts;              // (contacts) indices into mContacts, island order
-    std::vector<ContactNode<D>> nodes;      // (contacts)
-    std::vector<double> positionBias;       // (contacts) the bias of the position solve (differs on bouncing contacts)
-    bool split = false;                     // some contact bounces this step: positions need their own solve
-    std::vector<int> warm;                  // the friction LCP's guessed basis from the cache
-    std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
-    std::uint64_t sumSquares = 0;           // sum over movable bodies of (contacts on the body)^2
-};
-
-template <class D>
 template <class H>
 ContactKey WorldStep<D>::keyOf(H& hooks, const StepContact<D>& c) const {
     const auto& bodies = hooks.bodies();
@@ -37,7 +24,7 @@ ContactKey WorldStep<D>::keyOf(H& hooks, const StepContact<D>& c) const {
 
 template <class D>
 template <class H>
-void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker, IslandSetup& out) const {
+void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const {
     using world_step_detail::isDynamic;
     const auto& def = hooks.def();
     const double dt = 1.0 / def.hz;
@@ -45,6 +32,8 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker, Islan
     const auto& cold = hooks.bodies().coldArray();
     std::vector<int>& localIndex = worker.localIndex;
     if (localIndex.size() < hot.size()) localIndex.resize(hot.size(), -1);
+    IslandSetup& out = worker.setup;
+    out.clear();
     std::vector<int>& local = out.local;
     std::vector<ResolverBody<D>>& rb = out.bodies;
     // Local numbering: the island's dynamic bodies, then every static or kinematic body its contacts touch.
@@ -111,10 +100,11 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker, Islan
         out.positionBias.push_back(moveBias);
         out.nodes.push_back(node);
         // Warm start: which of this contact's unknowns were basic last step, and the impulses they carried.
-        if (const ContactKey* hit = cache.find(keyOf(hooks, c))) {
-            appendWarmBasis(hit->basicMask, ci, nc, k, out.warm);
-            out.impulses[std::size_t(ci)].normal = hit->normalImpulse;
-            out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit->tangentImpulse);
+        if (const int at = mHit[std::size_t(out.contacts[std::size_t(ci)])]; at >= 0) {
+            const ContactKey& hit = cache.at(at);
+            appendWarmBasis(hit.basicMask, ci, nc, k, out.warm);
+            out.impulses[std::size_t(ci)].normal = hit.normalImpulse;
+            out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
         }
     }
     for (std::uint32_t n : perBody) out.sumSquares += std::uint64_t(n) * n;
@@ -144,8 +134,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     const auto& def = hooks.def();
     auto& hot = hooks.bodies().hotArray();
     const auto& cold = hooks.bodies().coldArray();
-    IslandSetup setup;
-    prepareIsland(hooks, job, worker, setup);
+    prepareIsland(hooks, job, worker);
+    IslandSetup& setup = worker.setup;
     std::vector<ResolverBody<D>>& rb = setup.bodies;
     std::vector<ContactNode<D>>& nodes = setup.nodes;
     const int nc = int(nodes.size());
@@ -249,6 +239,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     ++stats.exactIslands;
     const bool friction = !r.tangentImpulses.empty();
     const std::uint32_t cost = world_step_detail::perContactCost(spent, nc);
+    std::vector<ContactKey>& keys = setup.keys;
     for (int ci = 0; ci < nc; ++ci) {
         StepContact<D>& c = mContacts[std::size_t(setup.contacts[std::size_t(ci)])];
         c.normalImpulse = r.impulses[std::size_t(ci)];
@@ -257,9 +248,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         key.cost = cost;
         key.normalImpulse = c.normalImpulse;
         for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = c.tangentImpulse[d];
-        job.cache.push_back(key);
+        keys.push_back(key);
     }
-    storeBasis(r.basis, nc, k, friction, job.cache.data());
+    storeBasis(r.basis, nc, k, friction, keys.data());
+    for (int ci = 0; ci < nc; ++ci) {
+        mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = keys[std::size_t(ci)];
+        mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;
+    }
     for (int kk = 0; kk < int(setup.local.size()); ++kk) {
         const int d = setup.local[std::size_t(kk)];
         if (!isDynamic(cold[std::size_t(d)])) continue;
@@ -275,8 +270,8 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
     const auto& def = hooks.def();
     auto& hot = hooks.bodies().hotArray();
     const auto& cold = hooks.bodies().coldArray();
-    IslandSetup setup;
-    prepareIsland(hooks, job, worker, setup);
+    prepareIsland(hooks, job, worker);
+    IslandSetup& setup = worker.setup;
     const int nc = int(setup.nodes.size());
     const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
     const int sweeps = work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps));
@@ -321,7 +316,8 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
             const double t = std::sqrt(D::dot(c.tangentImpulse, c.tangentImpulse));
             if (t >= c.friction * c.normalImpulse * (1.0 - 1e-9) && t > 0.0) key.basicMask |= 2u << k;
         }
-        job.cache.push_back(key);
+        mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = key;
+        mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;
     }
     for (int kk = 0; kk < int(setup.local.size()); ++kk) {
         const int d = setup.local[std::size_t(kk)];
