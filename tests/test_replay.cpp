@@ -36,14 +36,16 @@ struct Golden {
     std::uint64_t chainHash;
 };
 const Golden kGolden[] = {
-    {"pyramid", 240, 0x74646aceda5134d9ull, 0xc5f075cafa8b1baaull},
-    {"restitution_row", 240, 0x65dc7a7e94e077b0ull, 0x6ef3ce443ef435c5ull},
-    {"mixed_pile", 300, 0xa7c9e124f2d7496full, 0x6612ff694812e4f4ull},
-    {"cradle", 120, 0x203a55181a194b94ull, 0x5b73125224a1c473ull},
-    {"pyramid16", 120, 0x558c61beaf9f1bd7ull, 0xa0e1004a7e86e1e8ull},
-    {"box_heap3d", 180, 0xc9e7fe179845122eull, 0xc72ca8e4c3696260ull},
-    {"spheres3d", 180, 0xdc3779fbf85f6923ull, 0xed32a17ed5dbc5b7ull},
-    {"bunnies3d", 240, 0xfafc5f280aeccf6cull, 0x4072374b22e047a0ull},
+    {"pyramid", 240, 0x1265b17164242b22ull, 0x4d61ba720b810f69ull},
+    {"restitution_row", 240, 0x24725bdc20cdd867ull, 0x9b3ef115c616e425ull},
+    {"mixed_pile", 300, 0xc93a2070fc30f368ull, 0x7479f709d8a7fb98ull},
+    {"cradle", 120, 0x38d47611a5ff6ac9ull, 0x529de80ed8b508fdull},
+    {"pyramid16", 120, 0x0e6983b0fbe052ccull, 0x02aa0fa221b02369ull},
+    {"box_heap3d", 180, 0x78bc3bf2d4e9727aull, 0xfc780e2fa8f56b73ull},
+    {"spheres3d", 180, 0xa57a9b1e7a3adee3ull, 0x95060c2b4377339full},
+    {"bunnies3d", 240, 0x33439b23d76b1a39ull, 0xe0f7ab00f95e836aull},
+    {"pyramid16_budget", 120, 0x70eeccc5fd176090ull, 0xe6f48393994a1a6eull},
+    {"box_heap3d_budget", 180, 0xd24245c15be97aa6ull, 0x099ba48c2dfeafd1ull},
 };
 // ==================================================================================================================
 
