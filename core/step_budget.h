@@ -35,12 +35,15 @@ constexpr std::uint64_t kNarrowPair2 = 110;     ///< 2D narrowphase, per pair
 constexpr std::uint64_t kPerFeaturePair2 = 8;   ///< 2D narrowphase, per feature pair compared
 constexpr std::uint64_t kNarrowPair3 = 60;      ///< 3D narrowphase, per pair
 constexpr std::uint64_t kPerFeaturePair3 = 5;   ///< 3D narrowphase, per face-vertex or edge-edge test or candidate
-constexpr std::uint64_t kPerContact = 70;       ///< contact record, island edge, cache lookups, touch event
+constexpr std::uint64_t kPerContact = 80;       ///< contact record, island edge, cache lookups, touch event
 constexpr std::uint64_t kPerIsland = 1300;      ///< an exact attempt's fixed cost (set-up, validation, buffers)
-constexpr std::uint64_t kPerRow = 120;          ///< LCP assembly, per row (a normal or tangent direction)
-constexpr std::uint64_t kPerEntry = 1;          ///< LCP assembly, per coupling entry (row pair sharing a body)
+constexpr std::uint64_t kPerRow = 64;           ///< LCP assembly, per row (a normal or tangent direction)
+/// An exact attempt's warm-start factorisation beyond what the solver counts (LcpResult::work counts the factor's
+/// nonzeros, not the flops of finding it), per row times the square root of the rows: a settled 40-row pyramid
+/// (9900 rows) spends about 5 ms there, a 5-row one (170 rows) 20 us.
+constexpr std::uint64_t kPerRowRoot = 4;
 constexpr std::uint64_t kPgsPerIsland = 700;    ///< approximation: fixed cost per island
-constexpr std::uint64_t kPgsSetupPerRow = 40;   ///< approximation: Jacobians and effective masses, per row
+constexpr std::uint64_t kPgsSetupPerRow = 16;   ///< approximation: Jacobians and effective masses, per row
 constexpr std::uint64_t kPgsSweepPerRow = 13;   ///< approximation: one projected Gauss-Seidel update, per row
 
 /// Sweeps every approximate island gets (its reserve) and the most it gets from leftover budget.

@@ -164,7 +164,6 @@ private:
         std::vector<int> warm;                  // the friction LCP's guessed basis from the cache
         std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
         std::vector<ContactKey> keys;           // (contacts) the answer's cache entries, being built
-        std::uint64_t sumSquares = 0;           // sum over movable bodies of (contacts on the body)^2
         void clear() {
             local.clear();
             bodies.clear();
@@ -175,7 +174,6 @@ private:
             warm.clear();
             impulses.clear();
             keys.clear();
-            sumSquares = 0;
         }
     };
     /// Scratch of one worker thread; nothing in it outlives an island (its buffers keep their capacity).

@@ -58,18 +58,14 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
     const int b0 = mIslands.bodyStart[std::size_t(job.island)], b1 = mIslands.bodyStart[std::size_t(job.island) + 1];
     const int e0 = mIslands.edgeStart[std::size_t(job.island)], e1 = mIslands.edgeStart[std::size_t(job.island) + 1];
     for (int j = b0; j < b1; ++j) localOf(mIslands.bodies[std::size_t(j)]);
-    const int dynamicCount = int(local.size());
     const int k = hooks.frictionDirections();
     const int nc = e1 - e0;
     out.contacts.assign(mIslands.edges.begin() + e0, mIslands.edges.begin() + e1);
     out.impulses.assign(std::size_t(nc), PgsWarm<D>{});
-    std::vector<std::uint32_t> perBody(std::size_t(dynamicCount), 0);
     for (int ci = 0; ci < nc; ++ci) {
         const StepContact<D>& c = mContacts[std::size_t(out.contacts[std::size_t(ci)])];
         ContactNode<D> node = makeContact<D>(localOf(c.bodyA), localOf(c.bodyB), c.point, c.normal, c.restitution,
                                              c.friction);
-        for (int end : {node.a, node.b})
-            if (end < dynamicCount) ++perBody[std::size_t(end)];
         const double sep = c.separation;
         // Bounces are resolved at the time of impact (split into a velocity and a position answer):
         //   - A contact that will not close within this step at its current approach speed is only speculative:
@@ -107,16 +103,16 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
             out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
         }
     }
-    for (std::uint32_t n : perBody) out.sumSquares += std::uint64_t(n) * n;
     for (int d : local) localIndex[std::size_t(d)] = -1;  // leave the map clean for the next island
 }
 
 namespace world_step_detail {
 
-/// Work units of assembling an LCP of `rows` coupling rows whose bodies carry `sumSquares` (sum over movable bodies
-/// of its rows squared, the coupling entries J M^-1 J^T can have): the counting of core/step_budget.h.
-inline std::uint64_t assemblyWork(std::uint64_t rows, std::uint64_t sumSquares) {
-    return work::kPerIsland + work::kPerRow * rows + work::kPerEntry * sumSquares;
+/// Work units of an exact attempt on an LCP of `rows` coupling rows beyond the solver's own (core/step_budget.h):
+/// set-up, assembly and the warm start's factorisation.
+inline std::uint64_t assemblyWork(std::uint64_t rows) {
+    const std::uint64_t root = std::uint64_t(std::sqrt(double(rows)));  // correctly rounded, so the same everywhere
+    return work::kPerIsland + work::kPerRow * rows + work::kPerRowRoot * rows * root;
 }
 
 /// ceil(total / count) as a cache cost, saturated at the largest 32-bit value.
@@ -151,7 +147,6 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // Work of this attempt: each LCP's assembly (counted here) and the solver's own units. With a budget, every
     // solve gets what is left of the island's grant as its work limit.
     std::uint64_t spent = 0;
-    const std::uint64_t sq = setup.sumSquares;
     const std::uint64_t kDirs = std::uint64_t(D::frictionDirectionCount(k));
     // Lemke checks its limit between pivots, so a solve is started only when what is left also covers its first
     // factorisation: a warm start's block of g unknowns costs at most g^2 + n units (LcpResult::work: the factor's
@@ -177,7 +172,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
         const std::uint64_t guess = inWarm ? std::uint64_t(inWarm->size()) : 0;
         const std::uint64_t firstFactor = guess > 0 ? guess * guess + (kDirs + 2) * std::uint64_t(nc) : 0;
-        if (!limitFor(world_step_detail::assemblyWork(frictionRows, (kDirs + 1) * (kDirs + 1) * sq), firstFactor))
+        if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor))
             return res;
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
         options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
@@ -193,7 +188,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             ++stats.failedIslands;
             const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
             const std::uint64_t spentWork = res.work;
-            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc), sq), 0)) {
+            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0)) {
                 options.lcp.warmBasis = nullptr;
                 options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
                 res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
