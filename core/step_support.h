@@ -24,7 +24,8 @@ struct ContactKey {
     std::uint16_t shapeA = 0, shapeB = 0;
     std::uint32_t feature = 0;
     std::uint32_t basicMask = 0;
-    /// Work units of its island's exact solve per contact, as the budget allocation predicts it for next step.
+    /// Work units of its island's exact solve per contact, as the budget allocation predicts it for next step (0:
+    /// unknown; always 0 after a step without a budget).
     std::uint32_t cost = 0;
     double normalImpulse = 0.0;               ///< N s
     double tangentImpulse[3] = {0.0, 0.0, 0.0};  ///< N s, world frame (2D: z is 0)
@@ -50,10 +51,10 @@ public:
         return it != mEntries.end() && it->sameKey(key) ? &*it : nullptr;
     }
     /// Index of the entry with the same key, or -1. Looks at the few entries from `hint` on first (a step asks in
-    /// nearly ascending key order, so the previous answer + 1 is usually right), then binary-searches.
+    /// nearly ascending key order, so the previous answer + 1 is usually right; -1: no hint), then binary-searches.
     int findFrom(const ContactKey& key, int hint) const {
         const int n = int(mEntries.size());
-        for (int i = hint < 0 ? 0 : hint, end = std::min(n, i + 4); i < end; ++i) {
+        for (int i = hint < 0 ? n : hint, end = std::min(n, i + 4); i < end; ++i) {
             if (mEntries[std::size_t(i)].sameKey(key)) return i;
             if (key < mEntries[std::size_t(i)]) break;
         }

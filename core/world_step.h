@@ -330,11 +330,15 @@ void WorldStep<D>::findContacts(H& hooks) {
         int body, shape;
         double reach;  // how far the shape can move this step (m): dt (|v| + |w| extent)
     };
-    std::vector<Proxy> proxies;
-    std::vector<decltype(computeAabb(cold[0].shapes[0], hooks.transform(hot[0])))> boxes;
-    std::vector<std::uint8_t> inactive;
-    std::vector<decltype(hooks.transform(hot[0]))> xfs;
-    xfs.reserve(hot.size());
+    // Proxies, boxes and flags in (body, shape) order, each body's at its own offset, so bodies fill them in parallel.
+    const int nb = int(hot.size());
+    std::vector<int> first(std::size_t(nb) + 1, 0);
+    for (int d = 0; d < nb; ++d) first[std::size_t(d) + 1] = first[std::size_t(d)] + int(cold[std::size_t(d)].shapes.size());
+    const std::size_t nproxies = std::size_t(first[std::size_t(nb)]);
+    std::vector<Proxy> proxies(nproxies);
+    std::vector<decltype(computeAabb(cold[0].shapes[0], hooks.transform(hot[0])))> boxes(nproxies);
+    std::vector<std::uint8_t> inactive(nproxies);
+    std::vector<decltype(hooks.transform(hot[0]))> xfs(hot.size());
     const double margin = def.speculativeDistance;
     const double band = hooks.speculativeBand();
     const double dt = 1.0 / def.hz;
@@ -345,12 +349,12 @@ void WorldStep<D>::findContacts(H& hooks) {
         return D::dot(n, D::sub(va, vb));
     };
     auto length = [](const Vec& v) { return std::sqrt(D::dot(v, v)); };
-    for (int d = 0; d < int(hot.size()); ++d) {
+    forEach(nb, 64, [&](int d, Worker&) {
         const auto& st = hot[std::size_t(d)];
         const auto& info = cold[std::size_t(d)];
-        xfs.push_back(hooks.transform(st));
+        xfs[std::size_t(d)] = hooks.transform(st);
         for (int s = 0; s < int(info.shapes.size()); ++s) {
-            auto box = computeAabb(info.shapes[std::size_t(s)], xfs.back());
+            auto box = computeAabb(info.shapes[std::size_t(s)], xfs[std::size_t(d)]);
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
             // fast bodies sink deep before they are seen (and position correction then adds energy). Static bodies
             // do not move (and a 3D plane's box is unbounded).
@@ -364,11 +368,12 @@ void WorldStep<D>::findContacts(H& hooks) {
             const double grow = margin + reach;
             box.lower = D::sub(box.lower, D::uniform(grow));
             box.upper = D::add(box.upper, D::uniform(grow));
-            proxies.push_back({d, s, reach});
-            boxes.push_back(box);
-            inactive.push_back(world_step_detail::isDynamic(info) ? 0 : 1);
+            const std::size_t k = std::size_t(first[std::size_t(d)] + s);
+            proxies[k] = {d, s, reach};
+            boxes[k] = box;
+            inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
-    }
+    });
     const auto pairs = findPairs(boxes, inactive);
     // The narrowphase in parallel: each pair writes its points into its own slots; they are gathered in pair order.
     using Manifold = decltype(hooks.narrowphase(cold[0].shapes[0], xfs[0], cold[0].shapes[0], xfs[0], 0.0, mStats));
@@ -445,15 +450,19 @@ void WorldStep<D>::planIslands(H& hooks) {
     for (const StepContact<D>& c : mContacts) edges.push_back({c.bodyA, c.bodyB});
     mIslands = buildIslands(nb, joins, edges);
     mStats.islands = mIslands.count();
-    // Every contact's warm-start entry, looked up once (contacts come in nearly ascending key order).
+    // Every contact's warm-start entry, looked up once (contacts come in nearly ascending key order: each range
+    // starts with a search and then tries the entry after the last hit first).
     mHit.resize(mContacts.size());
     mNewEntry.resize(mContacts.size());
     mHasEntry.assign(mContacts.size(), 0);
-    for (std::size_t ci = 0, hint = 0; ci < mContacts.size(); ++ci) {
-        const int hit = cache.findFrom(keyOf(hooks, mContacts[ci]), int(hint));
-        mHit[ci] = hit;
-        if (hit >= 0) hint = std::size_t(hit) + 1;
-    }
+    forRanges(int(mContacts.size()), 256, [&](int begin, int end, Worker&) {
+        int hint = -1;
+        for (int ci = begin; ci < end; ++ci) {
+            const int hit = cache.findFrom(keyOf(hooks, mContacts[std::size_t(ci)]), hint);
+            mHit[std::size_t(ci)] = hit;
+            hint = hit >= 0 ? hit + 1 : hint;
+        }
+    });
     mAwake.assign(std::size_t(mIslands.count()), 0);
     mJobs.clear();
     mSleepingCache.clear();

@@ -233,7 +233,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     job.state = Job::State::exact;
     ++stats.exactIslands;
     const bool friction = !r.tangentImpulses.empty();
-    const std::uint32_t cost = world_step_detail::perContactCost(spent, nc);
+    // (Only a budgeted step predicts costs: without one they stay 0, so an unbudgeted world's state does not depend
+    // on the work-unit weights.)
+    const std::uint32_t cost = budgeted ? world_step_detail::perContactCost(spent, nc) : 0;
     std::vector<ContactKey>& keys = setup.keys;
     for (int ci = 0; ci < nc; ++ci) {
         StepContact<D>& c = mContacts[std::size_t(setup.contacts[std::size_t(ci)])];

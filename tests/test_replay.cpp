@@ -36,16 +36,16 @@ struct Golden {
     std::uint64_t chainHash;
 };
 const Golden kGolden[] = {
-    {"pyramid", 240, 0x1265b17164242b22ull, 0x4d61ba720b810f69ull},
-    {"restitution_row", 240, 0x24725bdc20cdd867ull, 0x9b3ef115c616e425ull},
-    {"mixed_pile", 300, 0xc93a2070fc30f368ull, 0x7479f709d8a7fb98ull},
-    {"cradle", 120, 0x38d47611a5ff6ac9ull, 0x529de80ed8b508fdull},
-    {"pyramid16", 120, 0x0e6983b0fbe052ccull, 0x02aa0fa221b02369ull},
-    {"box_heap3d", 180, 0x78bc3bf2d4e9727aull, 0xfc780e2fa8f56b73ull},
-    {"spheres3d", 180, 0xa57a9b1e7a3adee3ull, 0x95060c2b4377339full},
-    {"bunnies3d", 240, 0x33439b23d76b1a39ull, 0xe0f7ab00f95e836aull},
-    {"pyramid16_budget", 120, 0x70eeccc5fd176090ull, 0xe6f48393994a1a6eull},
-    {"box_heap3d_budget", 180, 0xd24245c15be97aa6ull, 0x099ba48c2dfeafd1ull},
+    {"pyramid", 240, 0x085a7ed7fab6d90cull, 0x1506bfbb62aaf127ull},
+    {"restitution_row", 240, 0x2c7c75387bcddef0ull, 0x4dbc3e0959dfa0f2ull},
+    {"mixed_pile", 300, 0x90f88d1bb15c3bacull, 0x1fae36e182c38077ull},
+    {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
+    {"pyramid16", 120, 0x97dc8806fb0140a4ull, 0xa11e17b0007ed425ull},
+    {"box_heap3d", 180, 0x1bf981982f0688a9ull, 0x29ea3be7140a0534ull},
+    {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
+    {"bunnies3d", 240, 0xa34e28d8540fe337ull, 0xcf9c4a1fa9a4066eull},
+    {"pyramid16_budget", 120, 0xc06184d3e543e27cull, 0x9ca8f52ee1803f82ull},
+    {"box_heap3d_budget", 180, 0xa6a50600923556ceull, 0x2d2d74c81653a015ull},
 };
 // ==================================================================================================================
 
