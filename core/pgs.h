@@ -51,11 +51,11 @@ struct Motion {
 /// on body b; invIangA/invIangB are the angular velocity change per unit impulse. (2D: 168 bytes, read every
 /// sweep, so nothing is stored that a multiplication can give.)
 template <class D, int T>
-struct Contact {
-    int a = 0, b = 0;
-    double mu = 0.0;      // Coulomb coefficient
-    double target = 0.0;  // normal row: w = v_rel + target (eq. (19): e v_rel^- - bias)
-    double invMassA = 0.0, invMassB = 0.0;
+struct Contact {  // every field is written by solvePgs' set-up before it is read (no initialisers: reused buffers)
+    int a, b;
+    double mu;      // Coulomb coefficient
+    double target;  // normal row: w = v_rel + target (eq. (19): e v_rel^- - bias)
+    double invMassA, invMassB;
     typename D::Vec dir[T + 1];
     typename D::Ang angA[T + 1], angB[T + 1], invIangA[T + 1], invIangB[T + 1];
     double invK[T + 1];   // 1 / the row's effective inverse mass (0 when neither body can move along it)
@@ -108,19 +108,31 @@ constexpr int pgsTangentRows() {
     return D::kDim - 1;
 }
 
+/// Buffers of solvePgs kept between calls (one per thread): they only grow, so a step that runs the approximation
+/// every step does not allocate or clear them.
+template <class D>
+struct PgsScratch {
+    std::vector<pgs_detail::Motion<D>> motion;
+    std::vector<pgs_detail::Contact<D, pgsTangentRows<D>()>> rows;
+};
+
 /// Runs `sweeps` projected Gauss-Seidel sweeps on the contact rows of `nodes` (the island's LCP rows: bias and
 /// restitution as the resolver reads them, e applied where the approach is faster than restitutionThreshold),
 /// starting from `warm` (one entry per node, or empty for a cold start) and applies the impulses to `ioBodies`.
+/// `scratch` holds the working arrays (any content; reused).
 template <class D>
 PgsResult<D> solvePgs(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& nodes,
-                      const std::vector<PgsWarm<D>>& warm, int sweeps, double restitutionThreshold) {
+                      const std::vector<PgsWarm<D>>& warm, int sweeps, double restitutionThreshold,
+                      PgsScratch<D>& scratch) {
     constexpr int T = pgsTangentRows<D>();
     using Contact = pgs_detail::Contact<D, T>;
     using Motion = pgs_detail::Motion<D>;
     const std::size_t nc = nodes.size();
-    std::vector<Motion> motion(ioBodies.size());
+    if (scratch.motion.size() < ioBodies.size()) scratch.motion.resize(ioBodies.size());
+    if (scratch.rows.size() < nc) scratch.rows.resize(nc);
+    Motion* motion = scratch.motion.data();
+    Contact* rows = scratch.rows.data();
     for (std::size_t k = 0; k < ioBodies.size(); ++k) motion[k] = {ioBodies[k].velocity, ioBodies[k].angularVelocity};
-    std::vector<Contact> rows(nc);
     for (std::size_t i = 0; i < nc; ++i) {
         const ContactNode<D>& node = nodes[i];
         const ResolverBody<D>& A = ioBodies[std::size_t(node.a)];
@@ -161,7 +173,8 @@ PgsResult<D> solvePgs(std::vector<ResolverBody<D>>& ioBodies, const std::vector<
         for (int r = 0; r <= T; ++r) pgs_detail::applyRow(c, r, c.f[r], motion[std::size_t(c.a)], motion[std::size_t(c.b)]);
     }
     for (int s = 0; s < sweeps; ++s) {
-        for (Contact& c : rows) {
+        for (std::size_t i = 0; i < nc; ++i) {
+            Contact& c = rows[i];
             Motion& A = motion[std::size_t(c.a)];
             Motion& B = motion[std::size_t(c.b)];
             // The contact's relative motion once: the friction rows (against the normal impulse of the last sweep,
@@ -221,6 +234,14 @@ PgsResult<D> solvePgs(std::vector<ResolverBody<D>>& ioBodies, const std::vector<
         ioBodies[k].angularVelocity = motion[k].w;
     }
     return out;
+}
+
+/// solvePgs with buffers of its own.
+template <class D>
+PgsResult<D> solvePgs(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& nodes,
+                      const std::vector<PgsWarm<D>>& warm, int sweeps, double restitutionThreshold) {
+    PgsScratch<D> scratch;
+    return solvePgs(ioBodies, nodes, warm, sweeps, restitutionThreshold, scratch);
 }
 
 }  // namespace unison

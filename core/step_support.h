@@ -50,11 +50,11 @@ public:
         const auto it = std::lower_bound(mEntries.begin(), mEntries.end(), key);
         return it != mEntries.end() && it->sameKey(key) ? &*it : nullptr;
     }
-    /// Index of the entry with the same key, or -1. Looks at the few entries from `hint` on first (a step asks in
-    /// nearly ascending key order, so the previous answer + 1 is usually right; -1: no hint), then binary-searches.
+    /// Index of the entry with the same key, or -1. Looks at the few entries around `hint` first (a step asks in
+    /// nearly ascending key order, so the previous answer + 1 is usually close; -1: no hint), then binary-searches.
     int findFrom(const ContactKey& key, int hint) const {
         const int n = int(mEntries.size());
-        for (int i = hint < 0 ? n : hint, end = std::min(n, i + 4); i < end; ++i) {
+        for (int i = hint < 0 ? n : std::max(0, hint - 2), end = std::min(n, i + 6); i < end; ++i) {
             if (mEntries[std::size_t(i)].sameKey(key)) return i;
             if (key < mEntries[std::size_t(i)]) break;
         }

@@ -181,6 +181,7 @@ private:
         LemkeSolver solver;
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
         IslandSetup setup;            // the island being solved
+        PgsScratch<D> pgs;            // the approximation's working arrays
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.

@@ -272,7 +272,7 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
     const int nc = int(setup.nodes.size());
     const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
     const int sweeps = work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps));
-    const PgsResult<D> p = solvePgs(setup.bodies, setup.nodes, setup.impulses, sweeps, def.restitutionThreshold);
+    const PgsResult<D> p = solvePgs(setup.bodies, setup.nodes, setup.impulses, sweeps, def.restitutionThreshold, worker.pgs);
     job.work += job.minimum - std::uint64_t(work::kMinSweeps) * job.sweepWork + std::uint64_t(sweeps) * job.sweepWork;
     job.state = Job::State::approximate;
     ++job.stats.approximateIslands;
