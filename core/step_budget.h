@@ -42,6 +42,9 @@ constexpr std::uint64_t kPerRow = 64;           ///< LCP assembly, per row (a no
 /// nonzeros, not the flops of finding it), per row times the square root of the rows: a settled 40-row pyramid
 /// (9900 rows) spends about 5 ms there, a 5-row one (170 rows) 20 us.
 constexpr std::uint64_t kPerRowRoot = 4;
+/// Per Lemke pivot, beyond the solver's own units: the refactorisations its count leaves out (cold solves of 40
+/// five-row pyramids: 5 us per pivot against 0.8 us counted; a warm path that gives its guess up pays up to 20 us).
+constexpr std::uint64_t kPerPivot = 4000;
 constexpr std::uint64_t kPgsPerIsland = 700;    ///< approximation: fixed cost per island
 constexpr std::uint64_t kPgsSetupPerRow = 16;   ///< approximation: Jacobians and effective masses, per row
 constexpr std::uint64_t kPgsSweepPerRow = 13;   ///< approximation: one projected Gauss-Seidel update, per row
@@ -50,8 +53,9 @@ constexpr std::uint64_t kPgsSweepPerRow = 13;   ///< approximation: one projecte
 constexpr int kMinSweeps = 8;
 constexpr int kMaxSweeps = 64;
 
-/// Prior of an island's exact work for contacts not in the warm-start cache, per squared LCP unknown: a cold
-/// Lemke solve takes about n / 2 pivots on blocks of about n / 2 unknowns.
+/// Prior of an island's exact work for contacts not in the warm-start cache (or answered by the approximation last
+/// step): its assembly, work::kPerPivot for each of about n / 4 pivots, and this per squared LCP unknown for the
+/// solver's own units (pivots on blocks of up to about n / 2 unknowns).
 constexpr std::uint64_t kColdPerUnknownSquared = 4;
 
 }  // namespace work

@@ -74,6 +74,11 @@ private:
     std::vector<ContactKey> mEntries;
 };
 
+/// Set in ContactKey::basicMask on entries the approximation wrote (core/pgs.h): their basis bits are a guess read
+/// off approximate impulses, and the next exact solve of their island starts cold instead (a wrong guess costs
+/// several factorisations before Lemke gives it up). appendWarmBasis reads only bits 0..k+1 (k <= 29 here).
+constexpr std::uint32_t kApproximateEntry = 1u << 31;
+
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).
 /// Appends the LCP indices that `mask` marks basic for contact ci to `outBasis`.

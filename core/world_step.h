@@ -273,6 +273,13 @@ bool isKinematic(const Info& info) {
     return info.type == decltype(info.type)::kinematicBody;
 }
 
+/// Work units of an exact attempt on an LCP of `rows` coupling rows beyond the solver's own (core/step_budget.h):
+/// set-up, assembly and the warm start's factorisation.
+inline std::uint64_t assemblyWork(std::uint64_t rows) {
+    const std::uint64_t root = std::uint64_t(std::sqrt(double(rows)));  // correctly rounded, so the same everywhere
+    return work::kPerIsland + work::kPerRow * rows + work::kPerRowRoot * rows * root;
+}
+
 /// Adds an island's (or a worker's) counts to the step's: sums and maxima, so the order of merging does not matter
 /// for the integers and the maxima, and the caller merges in island order anyway.
 inline void accumulate(StepStats& into, const StepStats& from) {
@@ -505,17 +512,25 @@ std::uint64_t WorldStep<D>::predictedNeed(H& hooks, int isl) const {
     // Last step's exact work of these contacts (ContactKey::cost, per contact), and a cold solve's prior for the
     // contacts the cache does not know.
     const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
+    // An island with contacts the approximation answered last step solves cold (its guess is dropped), so its need
+    // is at least the cold prior of all its unknowns.
     const std::uint64_t n = std::uint64_t(e1 - e0) * std::uint64_t(D::frictionDirectionCount(hooks.frictionDirections()) + 2);
     std::uint64_t known = 0;
     int unknown = 0;
+    bool approximate = false;
     for (int j = e0; j < e1; ++j) {
         const int hit = mHit[std::size_t(mIslands.edges[std::size_t(j)])];
+        approximate = approximate || (hit >= 0 && (cache.at(hit).basicMask & kApproximateEntry) != 0);
         if (hit >= 0 && cache.at(hit).cost > 0)
             known += cache.at(hit).cost;
         else
             ++unknown;
     }
-    const std::uint64_t prior = work::kColdPerUnknownSquared * n * n;
+    // A cold solve: its assembly, about n / 4 pivots with their factorisations, and the solver's own units.
+    const std::uint64_t rows = std::uint64_t(e1 - e0) * std::uint64_t(D::frictionDirectionCount(hooks.frictionDirections()) + 1);
+    const std::uint64_t prior = world_step_detail::assemblyWork(rows) + work::kPerPivot * (n / 4 + 1) +
+                                work::kColdPerUnknownSquared * n * n;
+    if (approximate) return std::max(known, prior);
     return known + prior * std::uint64_t(unknown) / std::uint64_t(e1 - e0);
 }
 
@@ -566,15 +581,22 @@ void WorldStep<D>::solveIslands(H& hooks) {
         return s;
     };
     exactPass();
-    // Pass 2: what pass 1 left goes, split the same way, to the islands it skipped.
+    // Pass 2: what pass 1 left goes to the islands it skipped, whole needs first-fit in ascending (need, island)
+    // order: a fair split would give each of many equal islands too little to finish, and none would.
     std::uint64_t used = spent();
     pool = pool > used ? pool - used : 0;
-    for (int j = 0; j < nj; ++j) demand[std::size_t(j)] = mJobs[std::size_t(j)].state == State::skipped ? mJobs[std::size_t(j)].need : 0;
-    share = fairShares(demand, pool);
+    std::vector<int> skipped;
+    for (int j = 0; j < nj; ++j)
+        if (mJobs[std::size_t(j)].state == State::skipped) skipped.push_back(j);
+    std::sort(skipped.begin(), skipped.end(), [&](int a, int b) {
+        const std::uint64_t na = mJobs[std::size_t(a)].need, nb = mJobs[std::size_t(b)].need;
+        return na != nb ? na < nb : a < b;
+    });
     bool second = false;
-    for (int j = 0; j < nj; ++j) {
+    for (int j : skipped) {
         Job& job = mJobs[std::size_t(j)];
-        if (job.state != State::skipped || share[std::size_t(j)] < job.need || job.need == 0) continue;
+        if (job.need == 0 || job.need > pool) continue;
+        pool -= job.need;
         job.grant = job.need;
         job.state = State::pending;
         second = true;

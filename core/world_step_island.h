@@ -62,6 +62,7 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
     const int nc = e1 - e0;
     out.contacts.assign(mIslands.edges.begin() + e0, mIslands.edges.begin() + e1);
     out.impulses.assign(std::size_t(nc), PgsWarm<D>{});
+    bool approximateGuess = false;
     for (int ci = 0; ci < nc; ++ci) {
         const StepContact<D>& c = mContacts[std::size_t(out.contacts[std::size_t(ci)])];
         ContactNode<D> node = makeContact<D>(localOf(c.bodyA), localOf(c.bodyB), c.point, c.normal, c.restitution,
@@ -99,21 +100,16 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
         if (const int at = mHit[std::size_t(out.contacts[std::size_t(ci)])]; at >= 0) {
             const ContactKey& hit = cache.at(at);
             appendWarmBasis(hit.basicMask, ci, nc, k, out.warm);
+            approximateGuess = approximateGuess || (hit.basicMask & kApproximateEntry) != 0;
             out.impulses[std::size_t(ci)].normal = hit.normalImpulse;
             out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
         }
     }
+    if (approximateGuess) out.warm.clear();  // cold (see kApproximateEntry)
     for (int d : local) localIndex[std::size_t(d)] = -1;  // leave the map clean for the next island
 }
 
 namespace world_step_detail {
-
-/// Work units of an exact attempt on an LCP of `rows` coupling rows beyond the solver's own (core/step_budget.h):
-/// set-up, assembly and the warm start's factorisation.
-inline std::uint64_t assemblyWork(std::uint64_t rows) {
-    const std::uint64_t root = std::uint64_t(std::sqrt(double(rows)));  // correctly rounded, so the same everywhere
-    return work::kPerIsland + work::kPerRow * rows + work::kPerRowRoot * rows * root;
-}
 
 /// ceil(total / count) as a cache cost, saturated at the largest 32-bit value.
 inline std::uint32_t perContactCost(std::uint64_t total, int count) {
@@ -151,13 +147,25 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // Lemke checks its limit between pivots, so a solve is started only when what is left also covers its first
     // factorisation: a warm start's block of g unknowns costs at most g^2 + n units (LcpResult::work: the factor's
     // nonzeros), a cold start none.
-    auto limitFor = [&](std::uint64_t assembly, std::uint64_t firstFactor) -> bool {
+    // Each pivot is also charged work::kPerPivot for the factorisations around it that the solver does not count.
+    // With a budget, what is left of the grant is split between a pivot cap (at that charge plus about 6 units per
+    // unknown, the solver's own count of a pivot on a sparse block of half the unknowns) and the solver's work
+    // limit, so that the two together stay within the grant.
+    auto limitFor = [&](std::uint64_t assembly, std::uint64_t firstFactor, std::uint64_t unknowns) -> bool {
         if (budgeted && spent + assembly + firstFactor >= job.grant) return false;
         spent += assembly;
         if (!budgeted) return true;
         const std::uint64_t left = job.grant - spent;
-        options.lcp.maxWork = def.lcp.maxWork > 0 ? std::min(def.lcp.maxWork, left) : left;
+        std::uint64_t pivots = std::max<std::uint64_t>(1, left / (work::kPerPivot + 6 * unknowns));
+        pivots = std::min(pivots, std::uint64_t(options.lcp.maxPivots));
+        options.lcp.maxPivots = int(pivots);
+        const std::uint64_t lemke = left > work::kPerPivot * pivots ? left - work::kPerPivot * pivots : 1;
+        options.lcp.maxWork = def.lcp.maxWork > 0 ? std::min(def.lcp.maxWork, lemke) : lemke;
         return true;
+    };
+    auto charge = [&](const Resolution& res) {
+        spent += res.work + work::kPerPivot * std::uint64_t(res.pivots);
+        stats.lcpWork += res.work;
     };
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
     // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
@@ -172,13 +180,12 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
         const std::uint64_t guess = inWarm ? std::uint64_t(inWarm->size()) : 0;
         const std::uint64_t firstFactor = guess > 0 ? guess * guess + (kDirs + 2) * std::uint64_t(nc) : 0;
-        if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor))
+        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
+        if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor, (kDirs + 2) * std::uint64_t(nc)))
             return res;
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
-        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
         res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
-        spent += res.work;
-        stats.lcpWork += res.work;
+        charge(res);
         if (options.lcp.warmBasis) {
             if (!res.warmStarted) ++stats.discardedGuesses;
             if (usable(res)) stats.basisChange += basisDistance(*options.lcp.warmBasis, res.basis);
@@ -188,12 +195,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             ++stats.failedIslands;
             const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
             const std::uint64_t spentWork = res.work;
-            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0)) {
+            options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
+            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
                 options.lcp.warmBasis = nullptr;
-                options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
                 res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
-                spent += res.work;
-                stats.lcpWork += res.work;
+                charge(res);
                 res.pivots += spentPivots;
                 res.work += spentWork;
             }
@@ -277,21 +283,22 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
     job.state = Job::State::approximate;
     ++job.stats.approximateIslands;
     job.stats.maxApproximateResidual = std::max(job.stats.maxApproximateResidual, p.residual);
-    // What the exact solve is predicted to cost next step: twice the share it ran out of, or (skipped) a little
-    // less than predicted, so that an island the budget cannot afford now is tried again after a few steps.
-    const std::uint64_t predicted = job.grant > 0 ? 2 * job.grant : job.raw - job.raw / 4;
-    const std::uint32_t cost = world_step_detail::perContactCost(predicted, nc);
+    // What the exact solve is predicted to cost next step: twice the share it ran out of; an island that was not
+    // tried keeps each contact's last prediction (0 for new ones: the cold prior, see predictedNeed).
+    const std::uint32_t doubled = job.grant > 0 ? world_step_detail::perContactCost(2 * job.grant, nc) : 0;
     const int k = D::frictionDirectionCount(hooks.frictionDirections());
     for (int ci = 0; ci < nc; ++ci) {
         StepContact<D>& c = mContacts[std::size_t(setup.contacts[std::size_t(ci)])];
         c.normalImpulse = p.normal[std::size_t(ci)];
         c.tangentImpulse = p.tangent[std::size_t(ci)];
         ContactKey key = keyOf(hooks, c);
-        key.cost = cost;
+        const int hit = mHit[std::size_t(setup.contacts[std::size_t(ci)])];
+        key.cost = job.grant > 0 ? doubled : hit >= 0 ? cache.at(hit).cost : 0;
         key.normalImpulse = c.normalImpulse;
         for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = c.tangentImpulse[d];
-        // A basis guess for the exact solve of a later step: the normal where it pushes, the (at most two)
-        // pyramid directions nearest the friction impulse, and the slack where the impulse is on the cone's rim.
+        // What the impulses say about the basis (the normal where it pushes, the (at most two) pyramid directions
+        // nearest the friction impulse, the slack where the impulse is on the cone's rim), marked approximate.
+        key.basicMask = kApproximateEntry;
         if (c.normalImpulse > 0.0) {
             key.basicMask |= 1u;
             double best[2] = {0.0, 0.0};
