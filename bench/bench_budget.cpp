@@ -143,9 +143,9 @@ UnisonRun runUnison(const SceneSpec& spec, std::uint64_t budget, int threads, do
             if (trace) {
                 const StepStats& st = world.stats();
                 std::printf("    step %4d %8.3f ms work %9llu min %9llu overrun %7llu exact %4d approx %3d pivots %6d "
-                            "contacts %5d\n", s + 1, ms, (unsigned long long)st.work, (unsigned long long)st.minimumWork,
-                            (unsigned long long)st.overrun, st.exactIslands, st.approximateIslands, st.pivots,
-                            st.contacts);
+                            "contacts %5d pen %.4f\n", s + 1, ms, (unsigned long long)st.work,
+                            (unsigned long long)st.minimumWork, (unsigned long long)st.overrun, st.exactIslands,
+                            st.approximateIslands, st.pivots, st.contacts, st.maxPenetration);
             }
             used += ms;
             if (used > 1e3 * seconds && s + 1 < spec.steps) {

@@ -7,6 +7,7 @@
 
 #include "state_io.h"
 #include "step_support.h"
+#include "task_system.h"
 
 #include <cmath>
 #include <cstring>
@@ -314,10 +315,7 @@ void stepState(Io& io, Cache& cache, Pairs& touching) {
 /// step's thread pool and buffers. Called on the freshly read world before it replaces the live one.
 template <class Def>
 void keepExecution(const Def& live, Def& fresh) {
-    fresh.workerCount = live.workerCount;
-    fresh.enqueueTask = live.enqueueTask;
-    fresh.finishTask = live.finishTask;
-    fresh.userTaskContext = live.userTaskContext;
+    setTaskFields(fresh, taskFieldsOf(live));
 }
 
 /// The bytes a state walk writes (walk(ByteSink&)).

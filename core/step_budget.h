@@ -19,7 +19,7 @@ namespace work {
 /// on the bench scenes (bench/bench_budget prints each scene's own ns per unit beside it). Never measured at run
 /// time: it only converts a budget a user thinks of in milliseconds. It is the Lemke solver's unit (LcpResult::work)
 /// as measured there; every weight below was fitted to the same scale (docs/budget.md has the fit).
-constexpr double kNsPerUnit = 1.1;
+constexpr double kNsPerUnit = 0.9;
 
 /// Work units of `ms` milliseconds on the reference machine (kNsPerUnit), rounded down; 0 for ms <= 0.
 std::uint64_t fromMilliseconds(double ms);
@@ -45,7 +45,7 @@ constexpr std::uint64_t kPerRowRoot = 4;
 /// Per Lemke pivot, beyond the solver's own units: the refactorisations its count leaves out (cold solves of 40
 /// five-row pyramids: 5 us per pivot against 0.8 us counted; a warm path that gives its guess up pays up to 20 us).
 constexpr std::uint64_t kPerPivot = 4000;
-constexpr std::uint64_t kPgsPerIsland = 700;    ///< approximation: fixed cost per island
+constexpr std::uint64_t kPgsPerIsland = 100;    ///< approximation: fixed cost per island
 constexpr std::uint64_t kPgsSetupPerRow = 16;   ///< approximation: Jacobians and effective masses, per row
 constexpr std::uint64_t kPgsSweepPerRow = 13;   ///< approximation: one projected Gauss-Seidel update, per row
 

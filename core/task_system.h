@@ -39,6 +39,24 @@ struct TaskSystem {
     void* userContext = nullptr;                ///< passed to both callbacks
 };
 
+/// Sets a world definition's threads (fields workerCount, enqueueTask, finishTask, userTaskContext) from `tasks`.
+/// False, and nothing changes, for workerCount < 1 or only one of the two callbacks.
+template <class Def>
+bool setTaskFields(Def& def, const TaskSystem& tasks) {
+    if (tasks.workerCount < 1 || (tasks.enqueueTask == nullptr) != (tasks.finishTask == nullptr)) return false;
+    def.workerCount = tasks.workerCount;
+    def.enqueueTask = tasks.enqueueTask;
+    def.finishTask = tasks.finishTask;
+    def.userTaskContext = tasks.userContext;
+    return true;
+}
+
+/// The threads of a world definition (see setTaskFields).
+template <class Def>
+TaskSystem taskFieldsOf(const Def& def) {
+    return {def.workerCount < 1 ? 1 : def.workerCount, def.enqueueTask, def.finishTask, def.userTaskContext};
+}
+
 /// A fixed set of workerCount - 1 std::threads; the thread that finishes a task works on it too, as worker 0.
 /// Tasks are taken first-in first-out in ranges; one thread at a time enqueues and finishes (the world's step).
 class ThreadPool {

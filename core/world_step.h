@@ -222,6 +222,9 @@ private:
     void solveIsland(H& hooks, Job& job, Worker& worker);
     template <class H>
     void approximateIsland(H& hooks, Job& job, Worker& worker);
+    /// The island's answer (setup.bodies) into its dynamic bodies' velocities.
+    template <class H>
+    void writeVelocities(H& hooks, const IslandSetup& setup) const;
     template <class H>
     ContactKey keyOf(H& hooks, const StepContact<D>& c) const;
     template <class H>

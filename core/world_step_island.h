@@ -124,7 +124,6 @@ template <class H>
 void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     using world_step_detail::isDynamic;
     const auto& def = hooks.def();
-    auto& hot = hooks.bodies().hotArray();
     const auto& cold = hooks.bodies().coldArray();
     prepareIsland(hooks, job, worker);
     IslandSetup& setup = worker.setup;
@@ -258,21 +257,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = keys[std::size_t(ci)];
         mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;
     }
-    for (int kk = 0; kk < int(setup.local.size()); ++kk) {
-        const int d = setup.local[std::size_t(kk)];
-        if (!isDynamic(cold[std::size_t(d)])) continue;
-        hot[std::size_t(d)].velocity = rb[std::size_t(kk)].velocity;
-        hot[std::size_t(d)].angularVelocity = rb[std::size_t(kk)].angularVelocity;
-    }
+    writeVelocities(hooks, setup);
 }
 
 template <class D>
 template <class H>
 void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
-    using world_step_detail::isDynamic;
     const auto& def = hooks.def();
-    auto& hot = hooks.bodies().hotArray();
-    const auto& cold = hooks.bodies().coldArray();
     prepareIsland(hooks, job, worker);
     IslandSetup& setup = worker.setup;
     const int nc = int(setup.nodes.size());
@@ -323,9 +314,17 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
         mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = key;
         mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;
     }
+    writeVelocities(hooks, setup);
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::writeVelocities(H& hooks, const IslandSetup& setup) const {
+    auto& hot = hooks.bodies().hotArray();
+    const auto& cold = hooks.bodies().coldArray();
     for (int kk = 0; kk < int(setup.local.size()); ++kk) {
         const int d = setup.local[std::size_t(kk)];
-        if (!isDynamic(cold[std::size_t(d)])) continue;
+        if (!world_step_detail::isDynamic(cold[std::size_t(d)])) continue;
         hot[std::size_t(d)].velocity = setup.bodies[std::size_t(kk)].velocity;
         hot[std::size_t(d)].angularVelocity = setup.bodies[std::size_t(kk)].angularVelocity;
     }

@@ -153,21 +153,13 @@ struct World2::Hooks {
     bool parallelNarrowphase() const { return true; }
 };
 
-bool World2::setTaskSystem(const TaskSystem& tasks) {
-    if (tasks.workerCount < 1 || (tasks.enqueueTask == nullptr) != (tasks.finishTask == nullptr)) return false;
-    mDef.workerCount = tasks.workerCount;
-    mDef.enqueueTask = tasks.enqueueTask;
-    mDef.finishTask = tasks.finishTask;
-    mDef.userTaskContext = tasks.userContext;
-    return true;
-}
+bool World2::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef, tasks); }
 
 void World2::step() { step(mDef.stepBudget); }
 
 void World2::step(std::uint64_t budget) {
     Hooks hooks{*this};
-    mStep.run(hooks, StepControl{budget, {std::max(1, mDef.workerCount), mDef.enqueueTask, mDef.finishTask,
-                                          mDef.userTaskContext}});
+    mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
     mContactPoints.clear();
     for (const StepContact<Dim2>& c : mStep.contacts()) {
         const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)

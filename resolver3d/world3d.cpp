@@ -166,22 +166,14 @@ struct World3::Hooks {
     bool parallelNarrowphase() const { return !world.mCapture; }
 };
 
-bool World3::setTaskSystem(const TaskSystem& tasks) {
-    if (tasks.workerCount < 1 || (tasks.enqueueTask == nullptr) != (tasks.finishTask == nullptr)) return false;
-    mDef.workerCount = tasks.workerCount;
-    mDef.enqueueTask = tasks.enqueueTask;
-    mDef.finishTask = tasks.finishTask;
-    mDef.userTaskContext = tasks.userContext;
-    return true;
-}
+bool World3::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef, tasks); }
 
 void World3::step() { step(mDef.stepBudget); }
 
 void World3::step(std::uint64_t budget) {
     mCandidates.clear();
     Hooks hooks{*this};
-    mStep.run(hooks, StepControl{budget, {std::max(1, mDef.workerCount), mDef.enqueueTask, mDef.finishTask,
-                                          mDef.userTaskContext}});
+    mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
     mContactPoints.clear();
     for (const StepContact<Dim3>& c : mStep.contacts())
         mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,

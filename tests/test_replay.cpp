@@ -44,8 +44,8 @@ const Golden kGolden[] = {
     {"box_heap3d", 180, 0x1bf981982f0688a9ull, 0x29ea3be7140a0534ull},
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
     {"bunnies3d", 240, 0xa34e28d8540fe337ull, 0xcf9c4a1fa9a4066eull},
-    {"pyramid16_budget", 120, 0xb00e0f5ec5d8a984ull, 0x71ec20ea35f8ff96ull},
-    {"box_heap3d_budget", 180, 0xd15861045ff18586ull, 0xd45a03a15c76c72aull},
+    {"pyramid16_budget", 120, 0x061037aae206169eull, 0x0b8633dab1e0b5f1ull},
+    {"box_heap3d_budget", 180, 0xc36482a6d4ffe5d1ull, 0xe6fb6de3e755653full},
 };
 // ==================================================================================================================
 
