@@ -39,6 +39,7 @@ void* ThreadPool::enqueue(TaskCallback* callback, int itemCount, int minRange, v
     {
         std::lock_guard<std::mutex> lock(pool.mMutex);
         pool.mTasks.push_back(std::move(task));
+        pool.mEnqueued.fetch_add(1, std::memory_order_release);
     }
     pool.mWake.notify_all();
     return handle;
@@ -62,12 +63,18 @@ void ThreadPool::finish(void* handle, void* poolPtr) {
 }
 
 void ThreadPool::workerLoop(int worker) {
+    std::uint64_t seen = 0;
     for (;;) {
+        // A step enqueues its tasks a fraction of a millisecond apart, and a sleeping thread can take longer than that
+        // to wake: watch for the next task for a while (about 50 us) before sleeping.
+        for (int spin = 0; spin < 2000 && mEnqueued.load(std::memory_order_acquire) == seen; ++spin)
+            std::this_thread::yield();
         Task* task = nullptr;
         {
             std::unique_lock<std::mutex> lock(mMutex);
             for (;;) {
                 if (mStop) return;
+                seen = mEnqueued.load(std::memory_order_relaxed);
                 for (auto& t : mTasks) {
                     if (t->next.load(std::memory_order_relaxed) < t->rangeCount) {
                         task = t.get();

@@ -92,6 +92,7 @@ private:
     std::condition_variable mWake;      // workers: a task was enqueued, or stop
     std::condition_variable mFinished;  // finish(): a range of some task completed
     std::deque<std::unique_ptr<Task>> mTasks;  // enqueued and not yet finished, oldest first
+    std::atomic<std::uint64_t> mEnqueued{0};   // tasks enqueued so far (idle workers watch it before sleeping)
     bool mStop = false;
 };
 
