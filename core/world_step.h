@@ -252,7 +252,6 @@ private:
     Islands mIslands;
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<Job> mJobs;               // awake islands with contacts, island order
-    std::vector<ContactKey> mSleepingCache;  // entries kept by sleeping islands
     std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
     std::vector<Move> mMove;              // dense body -> position velocities of this step
     std::vector<TouchEvent> mBegin, mEnd;
@@ -476,7 +475,6 @@ void WorldStep<D>::planIslands(H& hooks) {
     });
     mAwake.assign(std::size_t(mIslands.count()), 0);
     mJobs.clear();
-    mSleepingCache.clear();
     mFixedWork += work::kPerContact * mContacts.size();
     constexpr std::uint64_t kRows = std::uint64_t(pgsTangentRows<D>() + 1);
     for (int isl = 0; isl < mIslands.count(); ++isl) {
@@ -486,8 +484,10 @@ void WorldStep<D>::planIslands(H& hooks) {
         for (int j = b0; j < b1; ++j) anyAwake = anyAwake || cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
         if (!anyAwake) {  // a sleeping island keeps its warm-start data
             for (int j = e0; j < e1; ++j) {
-                const int hit = mHit[std::size_t(mIslands.edges[std::size_t(j)])];
-                if (hit >= 0) mSleepingCache.push_back(cache.at(hit));
+                const int ci = mIslands.edges[std::size_t(j)];
+                if (mHit[std::size_t(ci)] < 0) continue;
+                mNewEntry[std::size_t(ci)] = cache.at(mHit[std::size_t(ci)]);
+                mHasEntry[std::size_t(ci)] = 1;
             }
             continue;
         }
@@ -671,17 +671,16 @@ void WorldStep<D>::mergeResults(H& hooks) {
     for (int d = 0; d < store.size(); ++d)  // kinematic bodies move on their own
         if (isKinematic(cold[std::size_t(d)]))
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
-    std::vector<ContactKey> newCache;
-    newCache.swap(mSleepingCache);
-    for (Job& job : mJobs) {  // island order, contacts in island order
-        const int e0 = mIslands.edgeStart[std::size_t(job.island)], e1 = mIslands.edgeStart[std::size_t(job.island) + 1];
-        for (int j = e0; j < e1; ++j) {
-            const int ci = mIslands.edges[std::size_t(j)];
-            if (mHasEntry[std::size_t(ci)]) newCache.push_back(mNewEntry[std::size_t(ci)]);
-        }
+    for (Job& job : mJobs) {  // island order
         world_step_detail::accumulate(mStats, job.stats);
         mStats.work += job.work;
     }
+    // The next cache in contact order: contacts come in body-pair order, which is nearly the key order, so the sort
+    // in replace() has little to do (in island order, each island's contacts with the ground would be far apart).
+    std::vector<ContactKey> newCache;
+    newCache.reserve(mContacts.size());
+    for (std::size_t ci = 0; ci < mContacts.size(); ++ci)
+        if (mHasEntry[ci]) newCache.push_back(mNewEntry[ci]);
     cache.replace(newCache);
     mStats.work += mFixedWork;
     // Begin/end events (pairs of bodies touching with overlap) and the deepest overlap.
