@@ -13,23 +13,36 @@
 //
 // Encoding (all little-endian; "v" = LEB128 varint):
 //   u8 format, v stepCount, f64 gravity (D components),
-//   v slot count, v free-list length + v slot each, v body count + (v slot, v generation) per dense body,
+//   v slot count, v free-list length + v slot each, v body count + (z slot delta from the previous dense body,
+//   v generation) per dense body ("z": a signed delta as a zigzag varint),
 //   per non-static body in dense order: u8 flags (bit 0 awake, bit 1 some velocity is not +0.0, bit 2 sleepTime is
 //   not +0.0), the pose doubles, then the velocity doubles if bit 1, then sleepTime if bit 2,
-//   v cache entries + per entry (v slotA delta, v slotB (delta when slotA repeats), v shapeA, v shapeB, u32 feature,
-//   v basicMask), v touching pairs + per pair (v a delta, v b delta from the previous b when a repeats, else from a).
+//   v cache entries + per entry (v slotA delta, then v slotB delta when slotA repeats, else z slotB - slotA; u8
+//   shapeA << 4 | shapeB when both < 15, else 0xFF, v shapeA, v shapeB; u32 feature; v basicMask),
+//   v touching pairs + per pair (v a delta, v b delta from the previous b when a repeats, else from a).
+// Small deltas keep almost every varint at one byte, which is also what makes decoding fast.
+//   then u64 XXH3 of every byte before it.
 // Invariants: a zero flag means the value is exactly +0.0 (bits 0), so every bit is restored; keys come out in the
-// order the step keeps them (cache by key, touching pairs ascending), which the reader checks.
+// order the step keeps them (cache by key, touching pairs ascending; the reader checks the pairs and the cache sorts
+// entries that are not). Values are restored
+// as saved: the checksum, the ids and the layout are checked, not the numbers (a state saved from a world is as
+// valid as that world was).
 #pragma once
 
+#include "state_io.h"
 #include "step_support.h"
 
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
+
+#if defined(__GNUC__)
+#define UNISON_COMPACT_INLINE __attribute__((always_inline)) inline
+#else
+#define UNISON_COMPACT_INLINE inline
+#endif
 
 namespace unison {
 
@@ -53,6 +66,36 @@ private:
     std::size_t mSize = 0;
 };
 
+namespace compact_detail {
+
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+constexpr bool kLittleEndian = true;
+#else
+constexpr bool kLittleEndian = false;
+#endif
+
+/// Stores / loads an n-byte little-endian integer (n = 4 or 8) at p: one move on little-endian machines.
+template <class U>
+inline void storeLE(std::uint8_t* p, U v) {
+    if constexpr (kLittleEndian) {
+        std::memcpy(p, &v, sizeof v);
+    } else {
+        for (std::size_t i = 0; i < sizeof v; ++i) p[i] = std::uint8_t(v >> (8 * i));
+    }
+}
+template <class U>
+inline U loadLE(const std::uint8_t* p) {
+    U v = 0;
+    if constexpr (kLittleEndian) {
+        std::memcpy(&v, p, sizeof v);
+    } else {
+        for (std::size_t i = 0; i < sizeof v; ++i) v |= U(p[i]) << (8 * i);
+    }
+    return v;
+}
+
+}  // namespace compact_detail
+
 /// Writes into a CompactState through a raw pointer; the caller announces an upper bound of the bytes first.
 class CompactWriter {
 public:
@@ -67,16 +110,19 @@ public:
     }
     void u8(std::uint8_t v) { *mP++ = v; }
     void u32(std::uint32_t v) {
-        for (int i = 0; i < 4; ++i) *mP++ = std::uint8_t(v >> (8 * i));
+        compact_detail::storeLE(mP, v);
+        mP += 4;
     }
     void u64(std::uint64_t v) {
-        for (int i = 0; i < 8; ++i) *mP++ = std::uint8_t(v >> (8 * i));
+        compact_detail::storeLE(mP, v);
+        mP += 8;
     }
     /// A double as its IEEE-754 bit pattern.
     void f64(double v) {
         std::uint64_t bits;
         std::memcpy(&bits, &v, sizeof bits);
-        u64(bits);
+        compact_detail::storeLE(mP, bits);
+        mP += 8;
     }
     /// LEB128: 7 bits per byte, low bits first (at most 10 bytes).
     void varint(std::uint64_t v) {
@@ -95,33 +141,47 @@ private:
     std::uint8_t* mP = mOut.mBytes.data();
 };
 
-/// Reads what CompactWriter wrote, never past the end; after the first failure every read returns 0.
+/// Reads what CompactWriter wrote, never past the end; after the first failure every read returns 0. The
+/// unchecked reads (suffix U) are for bytes a need() call has already vouched for.
 class CompactReader {
 public:
     CompactReader(const std::uint8_t* data, std::size_t size) : mP(data), mEnd(data + size) {}
-    std::uint8_t u8() { return have(1) ? *mP++ : 0; }
-    std::uint32_t u32() {
-        if (!have(4)) return 0;
-        std::uint32_t v = 0;
-        for (int i = 0; i < 4; ++i) v |= std::uint32_t(*mP++) << (8 * i);
+    /// True when n more bytes are there; otherwise fails.
+    bool need(std::size_t n) {
+        if (std::size_t(mEnd - mP) >= n) return true;
+        fail("truncated compact state");
+        return false;
+    }
+    std::uint8_t u8() { return need(1) ? *mP++ : 0; }
+    std::uint32_t u32() { return need(4) ? u32U() : 0; }
+    double f64() { return need(8) ? f64U() : 0.0; }
+    std::uint32_t u32U() {
+        const std::uint32_t v = compact_detail::loadLE<std::uint32_t>(mP);
+        mP += 4;
         return v;
     }
-    std::uint64_t u64() {
-        if (!have(8)) return 0;
-        std::uint64_t v = 0;
-        for (int i = 0; i < 8; ++i) v |= std::uint64_t(*mP++) << (8 * i);
+    std::uint64_t u64U() {
+        const std::uint64_t v = compact_detail::loadLE<std::uint64_t>(mP);
+        mP += 8;
         return v;
     }
-    double f64() {
-        const std::uint64_t bits = u64();
+    void skipU(std::size_t n) { mP += n; }
+    double f64U() {
+        const std::uint64_t bits = compact_detail::loadLE<std::uint64_t>(mP);
+        mP += 8;
         double v;
         std::memcpy(&v, &bits, sizeof v);
         return v;
     }
-    std::uint64_t varint() {
+    UNISON_COMPACT_INLINE std::uint64_t varint() {
+        if (mP < mEnd && *mP < 0x80u) return *mP++;  // the common one-byte case, inlined
+        return varintLong();
+    }
+    std::uint64_t varintLong() {
         std::uint64_t v = 0;
+        const bool roomy = mEnd - mP >= 10;  // a varint has at most 10 bytes: no check per byte then
         for (int shift = 0; shift < 64; shift += 7) {
-            if (!have(1)) return 0;
+            if (!roomy && !need(1)) return 0;
             const std::uint8_t b = *mP++;
             v |= std::uint64_t(b & 0x7Fu) << shift;
             if (!(b & 0x80u)) return v;
@@ -129,30 +189,29 @@ public:
         fail("varint longer than 64 bits");
         return 0;
     }
-    void fail(const std::string& why) {
-        if (mError.empty()) mError = why;
+    void fail(const char* why) {
+        if (!mError) mError = why;
         mP = mEnd;
     }
-    bool ok() const { return mError.empty(); }
+    bool ok() const { return mError == nullptr; }
     bool atEnd() const { return mP == mEnd; }
-    const std::string& error() const { return mError; }
+    std::string error() const { return mError ? mError : ""; }
     std::size_t remaining() const { return std::size_t(mEnd - mP); }
 
 private:
-    bool have(std::size_t n) {
-        if (std::size_t(mEnd - mP) >= n) return true;
-        fail("truncated compact state");
-        return false;
-    }
     const std::uint8_t* mP;
     const std::uint8_t* mEnd;
-    std::string mError;
+    const char* mError = nullptr;  // a string literal: the reader never allocates
 };
 
 namespace compact_detail {
 
 constexpr std::uint8_t kFormat = 1;
 constexpr std::uint8_t kAwake = 1, kMoving = 2, kSleeping = 4;  // body flags (kSleeping: sleepTime != +0.0)
+
+/// Signed deltas as varints: 0, -1, 1, -2, ... -> 0, 1, 2, 3, ...
+inline std::uint64_t zigzag(std::int64_t v) { return (std::uint64_t(v) << 1) ^ std::uint64_t(v >> 63); }
+inline std::int64_t unzigzag(std::uint64_t v) { return std::int64_t(v >> 1) ^ -std::int64_t(v & 1u); }
 
 inline bool isPositiveZero(double v) {
     std::uint64_t bits;
@@ -180,7 +239,7 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
     const std::size_t n = store.denseToSlot().size();
     // Upper bound: header, ids (10 + 5 bytes each), bodies, cache entries (5 + 5 + 3 + 3 + 4 + 5), pairs (2 x 10).
     w.reserve(1 + 10 + 8 * F::kGravity + 30 + 5 * freeList.size() + 15 * n + n * (1 + 8 * (F::kPose + F::kVelocity + 1)) +
-              10 + 25 * cache.entries().size() + 10 + 20 * touching.size());
+              10 + 25 * cache.entries().size() + 10 + 20 * touching.size() + 8);
     w.u8(kFormat);
     w.varint(stepCount);
     F::gravity(def, [&](double v) { w.f64(v); });
@@ -188,10 +247,12 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
     w.varint(freeList.size());
     for (std::uint32_t s : freeList) w.varint(s);
     w.varint(n);
+    std::uint32_t prevSlot = 0;
     for (std::size_t d = 0; d < n; ++d) {
         const std::uint32_t slot = store.denseToSlot()[d];
-        w.varint(slot);
+        w.varint(zigzag(std::int64_t(slot) - std::int64_t(prevSlot)));
         w.varint(slots[slot].generation);
+        prevSlot = slot;
     }
     const auto& hot = store.hotArray();
     const auto& cold = store.coldArray();
@@ -210,9 +271,14 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
     std::uint32_t prevA = 0, prevB = 0;
     for (const ContactKey& e : cache.entries()) {
         w.varint(e.slotA - prevA);
-        w.varint(e.slotA == prevA ? e.slotB - prevB : e.slotB);
-        w.varint(e.shapeA);
-        w.varint(e.shapeB);
+        w.varint(e.slotA == prevA ? e.slotB - prevB : zigzag(std::int64_t(e.slotB) - std::int64_t(e.slotA)));
+        if (e.shapeA < 15 && e.shapeB < 15) {
+            w.u8(std::uint8_t(e.shapeA << 4 | e.shapeB));
+        } else {
+            w.u8(0xFF);
+            w.varint(e.shapeA);
+            w.varint(e.shapeB);
+        }
         w.u32(e.feature);
         w.varint(e.basicMask);
         prevA = e.slotA;
@@ -227,6 +293,8 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
         prevSecond = b;
     }
     w.finish();
+    w.u64(hash64(out.data(), out.size()));
+    w.finish();
 }
 
 /// Restores what saveCompact() wrote into the same world. Everything is checked before anything is written:
@@ -235,7 +303,10 @@ template <class F, class Def, class Store>
 std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint64_t& ioStepCount, Def& ioDef,
                            Store& ioStore, WarmStartCache& ioCache, TouchPairs& ioTouching) {
     using namespace compact_detail;
-    CompactReader r(data, size);
+    if (data == nullptr || size < 9) return "compact state: truncated";
+    CompactReader tail(data + size - 8, 8);
+    if (tail.u64U() != hash64(data, size - 8)) return "compact state: checksum mismatch (corrupt or truncated)";
+    CompactReader r(data, size - 8);
     if (r.u8() != kFormat && r.ok()) return "compact state: unknown format";
     const std::uint64_t stepCount = r.varint();
     double gravity[F::kGravity];
@@ -247,10 +318,12 @@ std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint
     bool same = r.varint() == slots.size() && r.varint() == freeList.size();
     for (std::size_t i = 0; same && i < freeList.size(); ++i) same = r.varint() == freeList[i];
     same = same && r.varint() == denseToSlot.size();
+    std::uint32_t prevSlot = 0;
     for (std::size_t d = 0; same && d < denseToSlot.size(); ++d) {
         const std::uint32_t slot = denseToSlot[d];
-        same = r.varint() == slot;
+        same = r.varint() == zigzag(std::int64_t(slot) - std::int64_t(prevSlot));
         same = same && r.varint() == slots[slot].generation;
+        prevSlot = slot;
     }
     if (!r.ok()) return r.error();
     if (!same)
@@ -264,37 +337,48 @@ std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint
         const std::uint8_t flags = r.u8();
         if (flags > (kAwake | kMoving | kSleeping)) r.fail("compact state: bad body flags");
         const int count = F::kPose + ((flags & kMoving) ? F::kVelocity : 0) + ((flags & kSleeping) ? 1 : 0);
-        for (int i = 0; i < count; ++i) {
-            const double v = r.f64();
-            if (r.ok() && !std::isfinite(v)) r.fail("compact state: a non-finite body value");
-        }
+        if (r.need(8 * std::size_t(count))) r.skipU(8 * std::size_t(count));
     }
-    std::vector<ContactKey> entries(r.ok() ? std::size_t(r.varint()) : 0);
-    if (entries.size() > r.remaining() / 8) return "compact state: cache entry count exceeds the data";
+    // Decoded into buffers kept between calls (after the swaps below they hold the world's previous arrays).
+    static thread_local std::vector<ContactKey> entries;
+    static thread_local TouchPairs pairs;
+    const std::size_t entryCount = r.ok() ? std::size_t(r.varint()) : 0;
+    if (entryCount > r.remaining() / 8) return "compact state: cache entry count exceeds the data";
+    entries.resize(entryCount);
     std::uint32_t prevA = 0, prevB = 0;
     for (std::size_t i = 0; i < entries.size() && r.ok(); ++i) {
         ContactKey& e = entries[i];
         e.slotA = prevA + std::uint32_t(r.varint());
-        e.slotB = e.slotA == prevA ? prevB + std::uint32_t(r.varint()) : std::uint32_t(r.varint());
-        e.shapeA = std::uint16_t(r.varint());
-        e.shapeB = std::uint16_t(r.varint());
+        const std::uint64_t b = r.varint();  // read either way: the choice below compiles without a branch
+        e.slotB = e.slotA == prevA ? prevB + std::uint32_t(b) : std::uint32_t(std::int64_t(e.slotA) + unzigzag(b));
+        const std::uint8_t shapes = r.u8();
+        if (shapes != 0xFF) {
+            e.shapeA = shapes >> 4;
+            e.shapeB = shapes & 15u;
+        } else {
+            e.shapeA = std::uint16_t(r.varint());
+            e.shapeB = std::uint16_t(r.varint());
+        }
         e.feature = r.u32();
-        e.basicMask = std::uint32_t(r.varint());
-        if (i > 0 && !(entries[i - 1] < e)) r.fail("compact state: cache entries are not strictly sorted");
+        e.basicMask = std::uint32_t(r.varint());  // (WarmStartCache::replace() sorts entries that come unsorted)
         prevA = e.slotA;
         prevB = e.slotB;
     }
-    TouchPairs pairs(r.ok() ? std::size_t(r.varint()) : 0);
-    if (pairs.size() > r.remaining() / 2) return "compact state: touching pair count exceeds the data";
+    const std::size_t pairCount = r.ok() ? std::size_t(r.varint()) : 0;
+    if (pairCount > r.remaining() / 2) return "compact state: touching pair count exceeds the data";
+    pairs.resize(pairCount);
     std::uint64_t prevFirst = 0, prevSecond = 0;
+    bool ascending = true;
     for (std::size_t i = 0; i < pairs.size() && r.ok(); ++i) {
         const std::uint64_t a = prevFirst + r.varint();
-        const std::uint64_t b = a == prevFirst ? prevSecond + r.varint() : a + r.varint();
+        const std::uint64_t delta = r.varint();
+        const std::uint64_t b = a == prevFirst ? prevSecond + delta : a + delta;
+        ascending &= i == 0 || a > prevFirst || (a == prevFirst && b > prevSecond);
         pairs[i] = {a, b};
-        if (i > 0 && !(pairs[i - 1] < pairs[i])) r.fail("compact state: touching pairs are not strictly sorted");
         prevFirst = a;
         prevSecond = b;
     }
+    if (!ascending) r.fail("compact state: touching pairs are not strictly sorted");
     if (r.ok() && !r.atEnd()) r.fail("compact state: unexpected bytes at the end");
     if (!r.ok()) return r.error();
     // Pass 2: everything is valid; write it.
@@ -303,9 +387,9 @@ std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint
     for (std::size_t d = 0; d < denseToSlot.size(); ++d) {
         if (isStatic(cold[d])) continue;
         const std::uint8_t flags = b.u8();
-        F::pose(hot[d], [&](double& v) { v = b.f64(); });
-        F::velocity(hot[d], [&](double& v) { v = (flags & kMoving) ? b.f64() : 0.0; });
-        cold[d].sleepTime = (flags & kSleeping) ? b.f64() : 0.0;
+        F::pose(hot[d], [&](double& v) { v = b.f64U(); });
+        F::velocity(hot[d], [&](double& v) { v = (flags & kMoving) ? b.f64U() : 0.0; });
+        cold[d].sleepTime = (flags & kSleeping) ? b.f64U() : 0.0;
         cold[d].awake = (flags & kAwake) != 0;
     }
     ioStepCount = stepCount;
