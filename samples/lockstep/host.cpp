@@ -364,6 +364,7 @@ int runHost(const HostOptions& options, std::ostream& out, std::ostream& err) {
                              {"predicted_ticks", s.predictedTicks},
                              {"mispredictions", s.mispredictions},
                              {"dropped", st.done[std::size_t(p)].dropped},
+                             {"stalled_ms", st.done[std::size_t(p)].stalledMs},
                              {"step_us", s.steps ? s.stepUs / s.steps : 0.0},
                              {"save_us", s.saves ? s.saveUs / s.saves : 0.0},
                              {"restore_us", s.restores ? s.restoreUs / s.restores : 0.0},

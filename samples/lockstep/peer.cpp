@@ -68,7 +68,9 @@ int runPeer(const std::string& host, int port, int wantedPlayer, std::ostream& o
     int hostHas = std::min(w.session.inputDelay, ticks);  // last tick of my inputs the host has
     std::vector<int> sentAcks;
     int hashesUpTo = 0;
-    bool doneSent = false, stopped = false;
+    bool doneSent = false, stopped = false, stalled = false;
+    double stalledMs = 0.0;
+    Clock::time_point stallStart = start;
     std::vector<NetEvent> events;
     while (!stopped) {
         // Sleep until the next tick is due (or 1 ms), waking up for traffic.
@@ -120,7 +122,14 @@ int runPeer(const std::string& host, int port, int wantedPlayer, std::ostream& o
                 session.setLocalInput(t, botInput(w.match, me, t));
                 newInputs = true;
             }
-            if (!session.canAdvance()) break;
+            if (!session.canAdvance()) {
+                // A due tick that cannot run yet: the match stalls here (counted in realtime only).
+                if (w.realtime && !stalled) stallStart = Clock::now();
+                stalled = w.realtime;
+                break;
+            }
+            if (stalled) stalledMs += msSince(stallStart);
+            stalled = false;
             session.advance();
         }
         // My inputs the host lacks, and what I have of everyone's.
@@ -139,7 +148,7 @@ int runPeer(const std::string& host, int port, int wantedPlayer, std::ostream& o
             if (session.isCheckpoint(c)) ep->send(0, encodeHash(c, session.checkpointHash(c)), true);
         hashesUpTo = std::max(hashesUpTo, settled);
         if (!doneSent && settled == ticks) {
-            PeerDone d{ticks, session.checkpointHash(ticks), session.stats(), ep->dropped()};
+            PeerDone d{ticks, session.checkpointHash(ticks), session.stats(), ep->dropped(), stalledMs};
             ep->send(0, encodeDone(d), true);
             doneSent = true;
             out << nlohmann::json{{"peer", me}, {"ticks", ticks}, {"final_hash", replay::hexHash(d.finalHash)}}.dump() << std::endl;

@@ -143,6 +143,7 @@ std::vector<std::uint8_t> encodeDone(const PeerDone& d) {
     w.u64(d.finalHash);
     writeStats(w, d.stats);
     w.i32(d.dropped);
+    w.f64(d.stalledMs);
     return std::move(w.data());
 }
 
@@ -222,6 +223,7 @@ bool decodeMessage(const std::vector<std::uint8_t>& bytes, Message* out, std::st
             m.done.finalHash = r.u64();
             m.done.stats = readStats(r);
             m.done.dropped = r.i32();
+            m.done.stalledMs = r.f64();
             break;
     }
     if (r.ok() && !r.atEnd()) r.fail("unexpected bytes at the end");

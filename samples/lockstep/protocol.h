@@ -57,6 +57,7 @@ struct PeerDone {
     std::uint64_t finalHash = 0;
     SessionStats stats;
     int dropped = 0;  ///< messages the peer's simulated link dropped
+    double stalledMs = 0.0;  ///< realtime: time a due tick waited for inputs (lockstep) or the prediction window
 };
 
 /// A decoded message; only the members of its type are set.
