@@ -300,7 +300,7 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
 /// Restores what saveCompact() wrote into the same world. Everything is checked before anything is written:
 /// on failure the world is untouched and the reason is returned; on success the result is empty.
 template <class F, class Def, class Store>
-std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint64_t& ioStepCount, Def& ioDef,
+std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std::uint64_t& ioStepCount, Def& ioDef,
                            Store& ioStore, WarmStartCache& ioCache, TouchPairs& ioTouching) {
     using namespace compact_detail;
     if (data == nullptr || size < 9) return "compact state: truncated";
@@ -398,6 +398,15 @@ std::string restoreCompact(const std::uint8_t* data, std::size_t size, std::uint
     ioCache.replace(entries);
     ioTouching.swap(pairs);
     return {};
+}
+
+/// restoreCompactState() with the reason in *error (if given): true on success.
+template <class F, class Def, class Store>
+bool restoreCompact(const std::uint8_t* data, std::size_t size, std::uint64_t& ioStepCount, Def& ioDef, Store& ioStore,
+                    WarmStartCache& ioCache, TouchPairs& ioTouching, std::string* error) {
+    const std::string why = restoreCompactState<F>(data, size, ioStepCount, ioDef, ioStore, ioCache, ioTouching);
+    if (!why.empty() && error) *error = why;
+    return why.empty();
 }
 
 }  // namespace unison

@@ -305,10 +305,7 @@ void World3::saveCompact(CompactState& out) const {
 }
 
 bool World3::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
-    const std::string why = unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache,
-                                                                   mStep.touching);
-    if (!why.empty() && error) *error = why;
-    return why.empty();
+    return unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error);
 }
 
 }  // namespace unison

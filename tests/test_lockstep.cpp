@@ -93,6 +93,22 @@ std::vector<std::unique_ptr<RollbackSession>> playOverLaggingNetwork(const Match
 
 std::string lockstepProgram() { return UNISON_LOCKSTEP_PATH; }
 
+MatchConfig matchOf(int players, int rows) {
+    MatchConfig match;
+    match.players = players;
+    match.rows = rows;
+    return match;
+}
+
+SessionConfig sessionOf(int ticks, int inputDelay, int maxPrediction, int checkEvery) {
+    SessionConfig config;
+    config.ticks = ticks;
+    config.inputDelay = inputDelay;
+    config.maxPrediction = maxPrediction;
+    config.checkEvery = checkEvery;
+    return config;
+}
+
 double parseDouble(const std::string& text) { return std::stod(text); }
 
 std::uint64_t bitsOf(double v) {
@@ -106,14 +122,8 @@ std::uint64_t bitsOf(double v) {
 TEST_SUITE("lockstep") {
 
 TEST_CASE("rollback over a lagging network ends on the straight run's hashes at every checkpoint") {
-    MatchConfig match;
-    match.players = 3;
-    match.rows = 6;
-    SessionConfig config;
-    config.ticks = 240;
-    config.inputDelay = 1;
-    config.maxPrediction = 8;
-    config.checkEvery = 10;
+    const MatchConfig match = matchOf(3, 6);
+    const SessionConfig config = sessionOf(240, 1, 8, 10);
     const std::vector<std::uint64_t> expected = straightHashes(match, realInputs(match, config.ticks, config.inputDelay));
     const auto peers = playOverLaggingNetwork(match, config, 5, 7);
     int rollbacks = 0;
@@ -129,13 +139,8 @@ TEST_CASE("rollback over a lagging network ends on the straight run's hashes at 
 }
 
 TEST_CASE("lockstep mode never predicts and never rolls back, with the same hashes") {
-    MatchConfig match;
-    match.players = 2;
-    match.rows = 5;
-    SessionConfig config;
-    config.ticks = 150;
-    config.inputDelay = 2;
-    config.checkEvery = 15;
+    const MatchConfig match = matchOf(2, 5);
+    const SessionConfig config = sessionOf(150, 2, 0, 15);
     const std::vector<std::uint64_t> expected = straightHashes(match, realInputs(match, config.ticks, config.inputDelay));
     const auto peers = playOverLaggingNetwork(match, config, 4, 11);
     for (const auto& peer : peers) {
@@ -146,13 +151,8 @@ TEST_CASE("lockstep mode never predicts and never rolls back, with the same hash
 }
 
 TEST_CASE("a desync injected at tick T changes that tick's compact state and every checkpoint from T on") {
-    MatchConfig match;
-    match.players = 2;
-    match.rows = 4;
-    SessionConfig config;
-    config.ticks = 60;
-    config.inputDelay = 0;
-    config.checkEvery = 10;
+    const MatchConfig match = matchOf(2, 4);
+    SessionConfig config = sessionOf(60, 0, 0, 10);
     RollbackSession clean(match, config);
     config.desyncAt = 33;
     RollbackSession broken(match, config);
@@ -181,8 +181,7 @@ TEST_CASE("a desync injected at tick T changes that tick's compact state and eve
 
 TEST_CASE("synctest: passes on the pyramid with players, and names the field of a deliberate desync") {
     SynctestOptions options;
-    options.match.players = 3;
-    options.match.rows = 6;
+    options.match = matchOf(3, 6);
     options.ticks = 120;
     options.distance = 3;
     std::ostringstream out, err;
@@ -211,9 +210,7 @@ TEST_CASE("a networked match: 3 peer processes agree at every checkpoint and wit
     CHECK(summary["replay_agrees"] == true);
     for (std::size_t i = 0; i < 3; ++i) CHECK(lines[i]["final_hash"] == summary["final_hash"]);
     // The same inputs simulated here, in this process, give the same final hash.
-    MatchConfig match;
-    match.players = 3;
-    match.rows = 8;
+    const MatchConfig match = matchOf(3, 8);
     CHECK(summary["final_hash"] == replay::hexHash(straightHashes(match, realInputs(match, 240, 3)).back()));
     // The recording the host wrote verifies.
     const replay::Recording recording = replay::parseRecording(replay::readBinaryFile(rec), rec);
@@ -234,12 +231,8 @@ TEST_CASE("a networked match with a desync: reported within K ticks with the exa
     CHECK(report["peers"] == nlohmann::json::array({0, 2}));
     const nlohmann::json& d = report["differences"][0];
     // The body the desyncing peer flips is the one the same session picks in this process.
-    MatchConfig match;
-    match.players = 3;
-    match.rows = 8;
-    SessionConfig config;
-    config.ticks = 97;
-    config.inputDelay = 3;
+    const MatchConfig match = matchOf(3, 8);
+    SessionConfig config = sessionOf(97, 3, 0, 10);
     config.desyncAt = 97;
     RollbackSession local(match, config);
     const auto inputs = realInputs(match, 97, 3);
@@ -264,9 +257,7 @@ TEST_CASE("rollback over a simulated bad network (latency, jitter, loss): peers 
     int rollbacks = 0;
     for (const nlohmann::json& p : summary["peer_stats"]) rollbacks += p["rollbacks"].get<int>();
     CHECK(rollbacks > 0);
-    MatchConfig match;
-    match.players = 3;
-    match.rows = 6;
+    const MatchConfig match = matchOf(3, 6);
     CHECK(summary["final_hash"] == replay::hexHash(straightHashes(match, realInputs(match, 180, 1)).back()));
 }
 
