@@ -1,7 +1,8 @@
 // tests/browser/viewer_test.mjs — opens replay viewer pages (`unison view`) in Debian's chromium, headless, through
 // puppeteer-core, and checks what a person would: the page loads with no console error and no request leaving
 // the file (no network), the canvas is not blank, `#tick=N` shows tick N and its state hash in the panel, the
-// scrubber changes the frame and the address, and a desync report marks its tick and draws the flagged body.
+// scrubber changes the frame and the address, play and pause work, and a desync report marks its tick and draws
+// the flagged body.
 // Prints one JSON line per page with its load time (ms from navigation start to the first drawn frame).
 //
 // Usage: node viewer_test.mjs CASES.json [--screenshot OUT.png]
@@ -80,6 +81,15 @@ try {
     check(await text('tick') === String(c.other_tick), `${name}: the scrubber did not move to tick ${c.other_tick}`);
     check(second.sum !== first.sum, `${name}: the frame did not change when scrubbing to tick ${c.other_tick}`);
     check(await page.evaluate('location.hash') === '#tick=' + c.other_tick, `${name}: the address did not follow the scrubber`);
+    // Play runs the ticks forward; pause stops them.
+    await page.$eval('#scrub', (e) => { e.value = 0; e.dispatchEvent(new Event('input')); });
+    await page.click('#play');
+    await page.waitForFunction(() => Number(document.getElementById('tick').textContent) > 3, { timeout: 10000 })
+      .catch(() => check(false, `${name}: play did not advance the ticks`));
+    await page.click('#play');
+    const paused = await text('tick');
+    await new Promise((r) => setTimeout(r, 200));
+    check(await text('tick') === paused, `${name}: pause did not stop the ticks`);
     // The address: a new #tick=N moves the view there.
     await page.evaluate((t) => { location.hash = '#tick=' + t; }, expectedTick);
     await page.waitForFunction((t) => document.getElementById('tick').textContent === String(t), { timeout: 5000 }, expectedTick);
