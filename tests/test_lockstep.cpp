@@ -166,7 +166,9 @@ TEST_CASE("a desync injected at tick T changes that tick's compact state and eve
     CHECK(clean.compactHash(32) == broken.compactHash(32));
     CHECK(clean.compactHash(33) != broken.compactHash(33));
     CHECK(clean.checkpointHash(30) == broken.checkpointHash(30));
+    CHECK(clean.windowHash(30) == broken.windowHash(30));
     for (int c = 40; c <= 60; c += 10) CHECK(clean.checkpointHash(c) != broken.checkpointHash(c));
+    CHECK(clean.windowHash(40) != broken.windowHash(40));  // ticks 31..40 include the flipped one
     // The snapshots of tick 33 differ in exactly the flipped field, by its last bit.
     const std::vector<std::uint8_t> a = clean.snapshotAt(33), b = broken.snapshotAt(33);
     World2 wa, wb;
@@ -259,6 +261,20 @@ TEST_CASE("rollback over a simulated bad network (latency, jitter, loss): peers 
     CHECK(rollbacks > 0);
     const MatchConfig match = matchOf(3, 6);
     CHECK(summary["final_hash"] == replay::hexHash(straightHashes(match, realInputs(match, 180, 1)).back()));
+}
+
+TEST_CASE("rollback with a desync: found through the window of compact-state hashes, even if it heals") {
+    // A one-ulp velocity difference can be lost to rounding within a few ticks (here the state hashes at checkpoint
+    // 60 may agree again); the window hash of ticks 41..60 still differs, and the report names tick 55.
+    const test::ProcessRun r = test::runProgram(lockstepProgram(), "--peers 3 --ticks 200 --rollback --latency-ms 30 "
+                                                "--jitter-ms 10 --loss 0.1 --desync-at 55 --check-every 20");
+    REQUIRE_MESSAGE(r.exitCode == 1, r.err);
+    const nlohmann::json report = r.jsonLines().back();
+    CHECK(report["first_desync_tick"] == 55);
+    CHECK(report["checkpoint_tick"] == 60);
+    CHECK(report["differing_fields"] == 1);
+    CHECK(report["differences"][0]["field"].get<std::string>().rfind("velocity.", 0) == 0);
+    MESSAGE("state hashes at checkpoint 60 agree again: " << (report["checkpoint_hashes"]["peer_0"] == report["checkpoint_hashes"]["peer_2"]));
 }
 
 TEST_CASE("bad settings exit 2") {

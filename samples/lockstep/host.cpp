@@ -1,7 +1,8 @@
 // samples/lockstep/host.cpp — the host of a networked match (see roles.h).
 //
-// The host does not simulate during the match: it relays every peer's inputs to the others, compares the state
-// hashes the peers report at each checkpoint, and at the end checks the agreed hashes against its own offline
+// The host does not simulate during the match: it relays every peer's inputs to the others, compares what the
+// peers report at each checkpoint (the state hash, and a hash of every tick's compact-state hash since the previous
+// checkpoint, so a difference that vanished again before the checkpoint is caught too), and at the end checks the agreed hashes against its own offline
 // replay of the inputs it relayed (replay::record). When the hashes of a checkpoint differ it locates the desync:
 // it asks one peer of the majority and one that differs for the compact-state hash of every tick since the last
 // agreed checkpoint, takes the first tick where they differ, fetches both peers' full snapshots of that tick and
@@ -81,6 +82,9 @@ void reapPeers(std::vector<pid_t>& pids, double seconds) {
     }
 }
 
+/// What a peer reports at a checkpoint: the state hash and the window hash (RollbackSession::windowHash).
+using Checkpoint = std::pair<std::uint64_t, std::uint64_t>;
+
 /// The match as the host sees it: who is who, the inputs relayed so far, the hashes reported.
 struct HostState {
     int players = 0;
@@ -89,7 +93,7 @@ struct HostState {
     std::vector<std::vector<PlayerInput>> inputs;  // player -> inputs of ticks 1..known (index tick - 1)
     std::vector<std::vector<int>> has;           // [peer][player]: last tick of player's inputs peer has
     std::vector<bool> fresh;                     // player sent new inputs since the last relay
-    std::map<int, std::vector<std::uint64_t>> hashes;  // checkpoint tick -> per player (0: not reported)
+    std::map<int, std::vector<Checkpoint>> hashes;  // checkpoint tick -> per player ({0, 0}: not reported yet)
     int agreedUpTo = 0;                          // last checkpoint every peer agreed on
     std::vector<std::pair<int, std::uint64_t>> agreed;  // (tick, hash) of each agreed checkpoint
     std::vector<bool> doneReceived;
@@ -211,9 +215,9 @@ int runHost(const HostOptions& options, std::ostream& out, std::ostream& err) {
                     break;
                 }
                 case MessageType::hash: {
-                    std::vector<std::uint64_t>& h = st.hashes[m.tick];
-                    h.resize(std::size_t(players), 0);
-                    h[std::size_t(p)] = m.hash;
+                    std::vector<Checkpoint>& h = st.hashes[m.tick];
+                    h.resize(std::size_t(players), Checkpoint{0, 0});
+                    h[std::size_t(p)] = {m.hash, m.window};
                     break;
                 }
                 case MessageType::hashes:
@@ -263,13 +267,13 @@ int runHost(const HostOptions& options, std::ostream& out, std::ostream& err) {
         // Checkpoints in tick order, once every peer has reported.
         while (!inv.active && !st.hashes.empty()) {
             const auto it = st.hashes.begin();
-            if (std::count(it->second.begin(), it->second.end(), std::uint64_t(0)) > 0) break;
-            const std::vector<std::uint64_t> h = it->second;
+            if (std::count(it->second.begin(), it->second.end(), Checkpoint{0, 0}) > 0) break;
+            const std::vector<Checkpoint> h = it->second;
             const int tick = it->first;
             st.hashes.erase(it);
             if (std::count(h.begin(), h.end(), h.front()) == players) {
                 st.agreedUpTo = tick;
-                st.agreed.push_back({tick, h.front()});
+                st.agreed.push_back({tick, h.front().first});
                 for (int q = 0; q < players; ++q) ep->send(st.connectionOf[std::size_t(q)], encodeTick(MessageType::checkOk, tick), true);
                 continue;
             }
@@ -284,8 +288,8 @@ int runHost(const HostOptions& options, std::ostream& out, std::ostream& err) {
             inv.checkpoint = tick;
             inv.a = a;
             inv.b = b;
-            inv.hashA = h[std::size_t(a)];
-            inv.hashB = h[std::size_t(b)];
+            inv.hashA = h[std::size_t(a)].first;
+            inv.hashB = h[std::size_t(b)].first;
             err << "host: checkpoint " << tick << ": peer " << b << " disagrees with peer " << a << "; locating the desync\n";
             for (int q : {a, b}) ep->send(st.connectionOf[std::size_t(q)], encodeQueryHashes(st.agreedUpTo, tick), true);
         }

@@ -95,7 +95,7 @@ int runPeer(const std::string& host, int port, int wantedPlayer, std::ostream& o
                 case MessageType::checkOk: session.dropBefore(m.tick); break;
                 case MessageType::queryHashes: {
                     std::vector<std::uint64_t> hashes;
-                    const int from = std::max(m.from, session.oldestKept());
+                    const int from = std::max(m.from, 0);
                     for (int t = from; t <= std::min(m.to, session.finalTick()); ++t) hashes.push_back(session.compactHash(t));
                     ep->send(0, encodeHashes(from, hashes), true);
                     break;
@@ -145,7 +145,7 @@ int runPeer(const std::string& host, int port, int wantedPlayer, std::ostream& o
         }
         const int settled = session.finalTick();
         for (int c = hashesUpTo + 1; c <= settled; ++c)
-            if (session.isCheckpoint(c)) ep->send(0, encodeHash(c, session.checkpointHash(c)), true);
+            if (session.isCheckpoint(c)) ep->send(0, encodeHash(c, session.checkpointHash(c), session.windowHash(c)), true);
         hashesUpTo = std::max(hashesUpTo, settled);
         if (!doneSent && settled == ticks) {
             PeerDone d{ticks, session.checkpointHash(ticks), session.stats(), ep->dropped(), stalledMs};

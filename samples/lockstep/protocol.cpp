@@ -107,10 +107,11 @@ std::vector<std::uint8_t> encodeTick(MessageType type, int tick) {
     return std::move(w.data());
 }
 
-std::vector<std::uint8_t> encodeHash(int tick, std::uint64_t hash) {
+std::vector<std::uint8_t> encodeHash(int tick, std::uint64_t hash, std::uint64_t window) {
     ByteWriter w = begin(MessageType::hash);
     w.i32(tick);
     w.u64(hash);
+    w.u64(window);
     return std::move(w.data());
 }
 
@@ -197,6 +198,7 @@ bool decodeMessage(const std::vector<std::uint8_t>& bytes, Message* out, std::st
         case MessageType::hash:
             m.tick = r.i32();
             m.hash = r.u64();
+            m.window = r.u64();
             break;
         case MessageType::checkOk:
         case MessageType::querySnapshot: m.tick = r.i32(); break;

@@ -25,7 +25,7 @@ enum class MessageType : std::uint8_t {
     start,          ///< host -> peer: every peer is here, the clock starts
     inputs,         ///< peer -> host: acknowledgements + the peer's unacknowledged inputs (unreliable)
     relay,          ///< host -> peer: acknowledgement + other players' unacknowledged inputs (unreliable)
-    hash,           ///< peer -> host: state hash after a checkpoint tick
+    hash,           ///< peer -> host: state hash after a checkpoint tick and the window hash up to it
     checkOk,        ///< host -> peer: every peer agreed at a checkpoint; older states may be forgotten
     queryHashes,    ///< host -> peer: compact-state hashes of ticks [from, to], please
     hashes,         ///< peer -> host: those hashes
@@ -71,7 +71,8 @@ struct Message {
     std::vector<InputRun> runs;     ///< inputs (one run), relay (one per other player)
     int tick = 0;                   ///< hash, checkOk, querySnapshot, snapshot
     int from = 0, to = 0;           ///< queryHashes; hashes uses from
-    std::uint64_t hash = 0;         ///< hash
+    std::uint64_t hash = 0;         ///< hash: World2::stateHash() of the checkpoint
+    std::uint64_t window = 0;       ///< hash: RollbackSession::windowHash() of the checkpoint
     std::vector<std::uint64_t> hashList;  ///< hashes
     std::vector<std::uint8_t> bytes;      ///< snapshot
     PeerDone done;
@@ -83,7 +84,7 @@ std::vector<std::uint8_t> encodeSimple(MessageType type);  ///< start, stop
 std::vector<std::uint8_t> encodeInputs(const std::vector<int>& acks, const InputRun& run);
 std::vector<std::uint8_t> encodeRelay(int ack, const std::vector<InputRun>& runs);
 std::vector<std::uint8_t> encodeTick(MessageType type, int tick);  ///< checkOk, querySnapshot
-std::vector<std::uint8_t> encodeHash(int tick, std::uint64_t hash);
+std::vector<std::uint8_t> encodeHash(int tick, std::uint64_t hash, std::uint64_t window);
 std::vector<std::uint8_t> encodeQueryHashes(int from, int to);
 std::vector<std::uint8_t> encodeHashes(int from, const std::vector<std::uint64_t>& hashes);
 std::vector<std::uint8_t> encodeSnapshot(int tick, const std::vector<std::uint8_t>& bytes);

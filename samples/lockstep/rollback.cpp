@@ -32,6 +32,8 @@ RollbackSession::RollbackSession(const MatchConfig& match, const SessionConfig& 
     mStates.resize(64);
     mRollbackFrom = kNoRollback;
     mMatch.world().saveCompact(slot(0));
+    mTickHashes.assign(std::size_t(config.ticks) + 1, 0);
+    mTickHashes[0] = hash64(slot(0).data(), slot(0).size());
 }
 
 void RollbackSession::setLocalInput(int tick, PlayerInput input) {
@@ -99,9 +101,14 @@ std::uint64_t RollbackSession::checkpointHash(int tick) const {
 void RollbackSession::dropBefore(int tick) { mBase = std::max(mBase, std::min(tick, finalTick())); }
 
 std::uint64_t RollbackSession::compactHash(int tick) const {
-    if (tick < mBase || tick > mTick) throw std::out_of_range("rollback session: tick " + std::to_string(tick) + " not kept");
-    const CompactState& s = slot(tick);
-    return hash64(s.data(), s.size());
+    if (tick < 0 || tick > mTick) throw std::out_of_range("rollback session: tick " + std::to_string(tick) + " not simulated");
+    return mTickHashes[std::size_t(tick)];
+}
+
+std::uint64_t RollbackSession::windowHash(int tick) const {
+    ByteWriter w;
+    for (int t = (tick - 1) / mConfig.checkEvery * mConfig.checkEvery + 1; t <= tick; ++t) w.u64(compactHash(t));
+    return hash64(w.data().data(), w.data().size());
 }
 
 std::vector<std::uint8_t> RollbackSession::snapshotAt(int tick) {
@@ -138,6 +145,7 @@ void RollbackSession::simulate(int tick) {
     mStats.saveUs += microsecondsSince(start);
     ++mStats.saves;
     mStats.maxStateBytes = std::max(mStats.maxStateBytes, slot(tick).size());
+    mTickHashes[std::size_t(tick)] = hash64(slot(tick).data(), slot(tick).size());
     if (isCheckpoint(tick)) mCheckpoints[tick] = mMatch.world().stateHash();
 }
 

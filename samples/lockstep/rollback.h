@@ -71,13 +71,16 @@ public:
     int finalTick() const;
     /// The state hash after a checkpoint tick (latest simulation of it), or 0 if not simulated yet.
     std::uint64_t checkpointHash(int tick) const;
+    /// XXH3 of the compact-state hashes of every tick after the previous checkpoint up to `tick`: a divergence
+    /// that heals before the checkpoint (a one-ulp difference lost to rounding) still changes it.
+    std::uint64_t windowHash(int tick) const;
     bool isCheckpoint(int tick) const { return tick % mConfig.checkEvery == 0 || tick == mConfig.ticks; }
 
     /// Oldest tick whose compact state is kept.
     int oldestKept() const { return mBase; }
     /// Forgets the states of ticks before `tick` (never the current one).
     void dropBefore(int tick);
-    /// XXH3 of the compact state after `tick` (kept ticks only).
+    /// XXH3 of the compact state after `tick` (any simulated tick).
     std::uint64_t compactHash(int tick) const;
     /// The full snapshot (World2::snapshot()) of the state after `tick` (kept ticks only).
     std::vector<std::uint8_t> snapshotAt(int tick);
@@ -106,6 +109,7 @@ private:
     std::vector<CompactState> mStates;  // ring: the state after tick t is at t % size, for t in [mBase, mTick]
     int mBase = 0;
     std::map<int, std::uint64_t> mCheckpoints;
+    std::vector<std::uint64_t> mTickHashes;  // (ticks + 1) compactHash of the latest simulation of each tick
     SessionStats mStats;
     std::string mInjectedField;
     BodyId mInjectedBody;
