@@ -7,7 +7,8 @@
 namespace unison {
 
 void WarmStartCache::replace(std::vector<ContactKey>& entries) {
-    std::sort(entries.begin(), entries.end());
+    // A restored compact state hands the entries over in order: checking is O(n), sorting them again is not.
+    if (!std::is_sorted(entries.begin(), entries.end())) std::sort(entries.begin(), entries.end());
     mEntries.swap(entries);
 }
 
