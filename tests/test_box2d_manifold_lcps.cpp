@@ -154,19 +154,31 @@ TEST_SUITE("box2d_manifold_lcps") {
         CHECK(nearZero >= exact.n - 3 * snap.dynamicBodies);
     }
 
-    // ---- Targets. Members that today's LemkeSolver misses carry doctest::may_fail(); the comment above each gives
-    // ---- today's numbers. Drop the decorator when a solver meets the target.
-
-    TEST_CASE("target: frictionless pyramid12 from double data") { checkTarget(12, false, ManifoldData::doubleData); }
-    TEST_CASE("target: frictionless pyramid12 from float data") { checkTarget(12, false, ManifoldData::floatData); }
-    TEST_CASE("target: frictionless pyramid20 from double data") { checkTarget(20, false, ManifoldData::doubleData); }
-    TEST_CASE("target: frictionless pyramid20 from float data") { checkTarget(20, false, ManifoldData::floatData); }
-    TEST_CASE("target: frictionless pyramid30 from double data") { checkTarget(30, false, ManifoldData::doubleData); }
-    TEST_CASE("target: frictionless pyramid30 from float data") { checkTarget(30, false, ManifoldData::floatData); }
-    TEST_CASE("target: friction pyramid12 from double data") { checkTarget(12, true, ManifoldData::doubleData); }
-    TEST_CASE("target: friction pyramid12 from float data") { checkTarget(12, true, ManifoldData::floatData); }
-    TEST_CASE("target: friction pyramid20 from double data") { checkTarget(20, true, ManifoldData::doubleData); }
-    TEST_CASE("target: friction pyramid20 from float data") { checkTarget(20, true, ManifoldData::floatData); }
-    TEST_CASE("target: friction pyramid30 from double data") { checkTarget(30, true, ManifoldData::doubleData); }
-    TEST_CASE("target: friction pyramid30 from float data") { checkTarget(30, true, ManifoldData::floatData); }
+    // ---- Targets. Every member is missed by today's LemkeSolver, so each carries doctest::may_fail(); the comment
+    // ---- gives today's status, pivots and recomputed scaled residual (the residual of z = 0: no answer). Drop the
+    // ---- decorator of a member once a solver meets its target.
+    // Today: pivot_limit after 1042 pivots (the pivot path cycles), scaled residual 0.23.
+    TEST_CASE("target: frictionless pyramid12 from double data" * doctest::may_fail()) { checkTarget(12, false, ManifoldData::doubleData); }
+    // Today: pivot_limit after 1297 pivots (cycles), 0.23.
+    TEST_CASE("target: frictionless pyramid12 from float data" * doctest::may_fail()) { checkTarget(12, false, ManifoldData::floatData); }
+    // Today: numerical_failure after 3052 pivots, 4.7.
+    TEST_CASE("target: frictionless pyramid20 from double data" * doctest::may_fail()) { checkTarget(20, false, ManifoldData::doubleData); }
+    // Today: pivot_limit after 2928 pivots (cycles), 0.23.
+    TEST_CASE("target: frictionless pyramid20 from float data" * doctest::may_fail()) { checkTarget(20, false, ManifoldData::floatData); }
+    // Today: infeasible after 4416 pivots, 0.17.
+    TEST_CASE("target: frictionless pyramid30 from double data" * doctest::may_fail()) { checkTarget(30, false, ManifoldData::doubleData); }
+    // Today: pivot_limit after 9778 pivots (cycles), 0.17.
+    TEST_CASE("target: frictionless pyramid30 from float data" * doctest::may_fail()) { checkTarget(30, false, ManifoldData::floatData); }
+    // Today: pivot_limit after 1042 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid12 from double data" * doctest::may_fail()) { checkTarget(12, true, ManifoldData::doubleData); }
+    // Today: pivot_limit after 1432 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid12 from float data" * doctest::may_fail()) { checkTarget(12, true, ManifoldData::floatData); }
+    // Today: pivot_limit after 3086 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid20 from double data" * doctest::may_fail()) { checkTarget(20, true, ManifoldData::doubleData); }
+    // Today: pivot_limit after 3190 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid20 from float data" * doctest::may_fail()) { checkTarget(20, true, ManifoldData::floatData); }
+    // Today: pivot_limit after 13727 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid30 from double data" * doctest::may_fail()) { checkTarget(30, true, ManifoldData::doubleData); }
+    // Today: pivot_limit after 12352 pivots (cycles), 0.16.
+    TEST_CASE("target: friction pyramid30 from float data" * doctest::may_fail()) { checkTarget(30, true, ManifoldData::floatData); }
 }
