@@ -499,9 +499,9 @@ std::vector<SceneSpec> makeScenes(bool quick, double settle, double standSeconds
                            sc::fallingCirclesScene(2000, false), 300, 30.0));
     s.push_back(touchingScene("v3_pyramid40", "Box2D v3 large pyramid, 40 rows (820 boxes, touching)",
                               sc::largePyramidScene(40, false), 600, 45.0, standSeconds));
+    // 300 steps at the target's 100 ms need 30 s; Unison's first step alone takes minutes today (killed at 65 s).
     s.push_back(touchingScene("v3_pyramid100", "Box2D v3 large pyramid, 100 rows (5050 boxes)",
-                              sc::largePyramidScene(100, false), 600, 75.0, 0.0));
-    s.back().peerBudgetSeconds = 30.0;
+                              sc::largePyramidScene(100, false), 300, 35.0, 0.0));
     s.push_back(touchingScene("v3_pyramids5x5", "Box2D v3 many pyramids, 5 x 5 of base 10 (1375 boxes)",
                               sc::pyramidGridScene(5, 5, 10, false), 600, 60.0, 0.0));
     s.push_back(touchingScene("v3_pyramids20x20", "Box2D v3 many pyramids, 20 x 20 of base 10 (22000 boxes)",
@@ -625,7 +625,7 @@ struct Summary {
         standTarget("v3_cardhouse:", "v3_cardhouse");
         meanTarget("v3_pyramid40: 600 steps at <= 10 ms/step", "v3_pyramid40", 0, 600, 10.0);
         standTarget("v3_pyramid40:", "v3_pyramid40");
-        meanTarget("v3_pyramid100: mean <= 100 ms/step (600 steps)", "v3_pyramid100", 0, 600, 100.0);
+        meanTarget("v3_pyramid100: mean <= 100 ms/step (300 steps)", "v3_pyramid100", 0, 300, 100.0);
         meanTarget("v3_pyramids5x5: <= 5 ms/step at steps 500-600", "v3_pyramids5x5", 500, 600, 5.0);
         meanTarget("v3_pyramids20x20: <= 100 ms/step (600 steps)", "v3_pyramids20x20", 0, 600, 100.0);
         standTarget("v3_arch (no target; Box2D v3's arch sags):", "v3_arch", false);

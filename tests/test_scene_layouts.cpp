@@ -78,6 +78,14 @@ Survey survey(std::vector<P>& placed, int bodies, int dynamicBodies, Lower lower
     return s;
 }
 
+// The separations of a manifold's points (2D or 3D).
+template <class Manifold>
+std::vector<double> separationsOf(const Manifold& m) {
+    std::vector<double> seps;
+    for (int k = 0; k < m.count; ++k) seps.push_back(m.points[std::size_t(k)].separation);
+    return seps;
+}
+
 Survey survey2(const json& scene, double margin = 0.01) {
     using P = Placed<Shape2, Transform2, Aabb2>;
     std::vector<P> placed;
@@ -98,12 +106,7 @@ Survey survey2(const json& scene, double margin = 0.01) {
     return survey(
         placed, int(bodies.size()), dynamicBodies, [](const P& p) { return p.box.lower.x; },
         [](const P& p) { return p.box.upper.x; }, [](const P& a, const P& b) { return overlaps(a.box, b.box); },
-        [&](const P& a, const P& b) {
-            const Manifold2 m = collide(a.shape, a.xf, b.shape, b.xf, margin);
-            std::vector<double> seps;
-            for (int k = 0; k < m.count; ++k) seps.push_back(m.points[std::size_t(k)].separation);
-            return seps;
-        });
+        [&](const P& a, const P& b) { return separationsOf(collide(a.shape, a.xf, b.shape, b.xf, margin)); });
 }
 
 Survey survey3(const json& scene, double margin = 0.01) {
@@ -131,12 +134,7 @@ Survey survey3(const json& scene, double margin = 0.01) {
         [](const P& a, const P& b) {
             return (a.box.lower.array() <= b.box.upper.array()).all() && (b.box.lower.array() <= a.box.upper.array()).all();
         },
-        [&](const P& a, const P& b) {
-            const Manifold3 m = collide(a.shape, a.xf, b.shape, b.xf, margin);
-            std::vector<double> seps;
-            for (int k = 0; k < m.count; ++k) seps.push_back(m.points[std::size_t(k)].separation);
-            return seps;
-        });
+        [&](const P& a, const P& b) { return separationsOf(collide(a.shape, a.xf, b.shape, b.xf, margin)); });
 }
 
 // Centre of the last body of a 2D scene (its watched body).
