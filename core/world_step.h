@@ -80,14 +80,16 @@ struct StepStats {
     /// Work of exact attempts beyond the share they were given (the solver checks its limit between pivots, so a
     /// warm start's factorisation can pass it); 0 when every attempt kept to its share.
     std::uint64_t overrun = 0;
-    double maxResidual = 0.0;         ///< largest complementarity residual of any exact island's answer
+    /// Largest complementarity residual of the exact answers the step applied (an island whose solves all failed
+    /// applies nothing and is counted in unsolvedIslands or approximateIslands instead).
+    double maxResidual = 0.0;
     int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP tried)
     int acceptedInexact = 0;          ///< exact-solve answers accepted by the world's acceptResidual
     int unsolvedIslands = 0;          ///< islands that got no impulse at all (unlimited budget, both LCPs failed)
     int exactIslands = 0;             ///< islands with contacts whose LCP was solved
     int approximateIslands = 0;       ///< islands with contacts given the bounded approximation (core/pgs.h)
     double maxApproximateResidual = 0.0;  ///< largest PgsResult::residual of an approximate island
-    double maxScaledResidual = 0.0;   ///< largest scaled residual (residual / max(|A|, |b|)) of any island's answer
+    double maxScaledResidual = 0.0;   ///< the same, scaled: residual / max(|A|, |b|)
     double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
 };
 

@@ -205,7 +205,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         }
         stats.pivots += res.pivots;
         stats.maxIslandPivots = std::max(stats.maxIslandPivots, res.pivots);
-        if (usable(res) || !budgeted) {  // (an attempt the budget cut short has no answer to measure)
+        if (usable(res)) {  // the answers the step applies
             stats.maxResidual = std::max(stats.maxResidual, res.residual);
             stats.maxScaledResidual = std::max(stats.maxScaledResidual, res.scaledResidual);
         }
