@@ -23,7 +23,7 @@ std::vector<GoldenScene> goldenScenes() {
         // with e = 0..1, and two sphere-tree bunnies sliding down the paper's ramps (the mesh path).
         {"box_heap3d", scenes::boxPile3Scene(12, true, false), 180},
         {"spheres3d", scenes::spheres3Scene(false), 180},
-        {"bunnies3d", scenes::bunnies3Scene(dir + "../samples/assets/bunny.obj", 0.05, 2, false), 240},
+        {"bunnies3d", scenes::bunnies3Scene(dir + "bunny.obj", 0.05, 2, false), 240},
     };
 }
 

@@ -61,10 +61,13 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
 int recordCommand(const std::string& sceneFile, const std::string& inputsFile, int steps, int snapshotEvery,
                   const std::string& outFile, std::ostream& out);
 
-/// `unison verify REC [--inputs FILE]`: replays a recording (with its own inputs, or with FILE's instead, to see
-/// where an input change makes a match diverge) and prints its report (replay::reportToJson). Returns 0 when every
-/// tick matches, 1 on a desync (a one-line summary also goes to `err`); a bad file throws InputError.
-int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err);
+/// `unison verify REC [--inputs FILE] [--keep-going]`: replays a recording (with its own inputs, or with FILE's
+/// instead, to see where an input change makes a match diverge) and prints its report (replay::reportToJson). It
+/// stops at the first tick whose hash differs; with keepGoing it replays on to the next recorded snapshot and lists
+/// the fields that differ there. Returns 0 when every tick matches, 1 on a desync (a one-line summary also goes to
+/// `err`); a bad file throws InputError.
+int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, bool keepGoing, std::ostream& out,
+                  std::ostream& err);
 
 /// `unison diff A B`: prints {"equal", "differing_fields", "differences": [{"body", "field", "a", "b"}]} for two
 /// snapshot files. Returns 0 when equal, 1 when they differ; a bad file throws InputError.

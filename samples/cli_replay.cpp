@@ -36,10 +36,11 @@ int recordCommand(const std::string& sceneFile, const std::string& inputsFile, i
     return 0;
 }
 
-int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err) {
+int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, bool keepGoing, std::ostream& out,
+                  std::ostream& err) {
     replay::Recording rec = replay::parseRecording(replay::readBinaryFile(recordingFile), recordingFile);
     if (!inputsFile.empty()) rec.inputs = readInputs(inputsFile, rec.scene);
-    const replay::VerifyReport report = replay::verify(rec);
+    const replay::VerifyReport report = replay::verify(rec, keepGoing);
     out << replay::reportToJson(report, kReportedDifferences).dump() << "\n";
     if (report.match) return 0;
     err << replay::reportSummary(report) << "\n";

@@ -51,6 +51,9 @@ int main(int argc, char** argv) {
     verify->add_option("RECORDING", verifyFile, "recording file (.urec)")->required();
     std::string verifyInputs;
     verify->add_option("--inputs", verifyInputs, "replay with these inputs instead of the recorded ones");
+    bool keepGoing = false;
+    verify->add_flag("--keep-going", keepGoing,
+                     "after the first mismatch, replay on to the next recorded snapshot to list the differing fields");
 
     std::string diffA, diffB;
     auto* diff = app.add_subcommand("diff", "list the fields that differ between two snapshot files");
@@ -75,11 +78,11 @@ int main(int argc, char** argv) {
                             RunSnapshot{snapshotAt, snapshotOut});
         }
         if (*record) return recordCommand(sceneFile, inputsFile, recordSteps, snapshotEvery, recordOut, std::cout);
-        if (*verify) return verifyCommand(verifyFile, verifyInputs, std::cout, std::cerr);
+        if (*verify) return verifyCommand(verifyFile, verifyInputs, keepGoing, std::cout, std::cerr);
         if (*diff) return diffCommand(diffA, diffB, std::cout);
         CommandOutput out;
         if (*lcp) {
-            out = runLcp(parseLcpText(readFile(lcpFile), lcpFile), maxPivots);
+            out = runLcp(parseLcpText(readFile(lcpFile, unison::policy::kMaxLcpTextBytes), lcpFile), maxPivots);
         } else {
             out = runResolve(parseJson(readFile(resolveFile), resolveFile), resolveFile);
         }
@@ -90,6 +93,11 @@ int main(int argc, char** argv) {
         return out.exitCode;
     } catch (const InputError& e) {
         std::cerr << "error: " << e.what() << "\n";
+        return 2;
+    } catch (const nlohmann::json::exception& e) {
+        // A reader that missed a type check: still bad input, never an abort. (Messages of this kind name types,
+        // not the text.)
+        std::cerr << "error: unexpected JSON value: " << e.what() << "\n";
         return 2;
     }
 }

@@ -170,7 +170,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
     const std::pair<const char*, const char*> cases[] = {
         {"{\"dimension\": 2, \"bodies\": [", "malformed JSON"},
         {"{\"bodies\": [], \"contacts\": []}", "dimension: missing"},
-        {"{\"dimension\": 4, \"bodies\": [], \"contacts\": []}", "dimension: must be in [2, 3]"},
+        {"{\"dimension\": 4, \"bodies\": [], \"contacts\": []}", "dimension: must be an integer in [2, 3]"},
         {"{\"dimension\": 2, \"bodies\": [{\"mass\": -1, \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
          "bodies[0].mass: must be > 0"},
         {"{\"dimension\": 2, \"bodies\": [{\"mass\": \"x\", \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
@@ -179,7 +179,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
          "bodies[0].position: expected an array of 2 numbers"},
         {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
          "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 3, \"point\": [0,0], \"normal\": [0,1]}]}",
-         "contacts[0].b: must be in [0, 1]"},
+         "contacts[0].b: must be an integer in [0, 1]"},
         {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
          "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 0, \"point\": [0,0], \"normal\": [0,2]}]}",
          "unit length"},
@@ -251,8 +251,13 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
     const Run v = unison("verify " + rec);
     CHECK(v.exitCode == 0);
     CHECK(nlohmann::json::parse(v.out)["status"] == "match");
-    // Replaying with a changed input: exit 1, the report names tick 6 and a differing field.
-    const Run d = unison("verify " + rec + " --inputs " + changed);
+    // Replaying with a changed input: exit 1 at tick 6; with --keep-going the report names a differing field at the
+    // next snapshot.
+    const Run stop = unison("verify " + rec + " --inputs " + changed);
+    CHECK(stop.exitCode == 1);
+    CHECK(nlohmann::json::parse(stop.out)["first_desync_tick"] == 6);
+    CHECK(nlohmann::json::parse(stop.out)["ticks"] == 6);
+    const Run d = unison("verify " + rec + " --inputs " + changed + " --keep-going");
     CHECK(d.exitCode == 1);
     const auto report = nlohmann::json::parse(d.out);
     CHECK(report["first_desync_tick"] == 6);
@@ -307,7 +312,7 @@ TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh i
     const Run v = unison("verify " + rec);
     CHECK(v.exitCode == 0);
     CHECK(nlohmann::json::parse(v.out)["status"] == "match");
-    const Run d = unison("verify " + rec + " --inputs " + changed);
+    const Run d = unison("verify " + rec + " --inputs " + changed + " --keep-going");
     CHECK(d.exitCode == 1);
     const auto report = nlohmann::json::parse(d.out);
     CHECK(report["first_desync_tick"] == 7);
