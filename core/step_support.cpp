@@ -2,12 +2,22 @@
 #include "step_support.h"
 
 #include <algorithm>
+#include <cassert>
 #include <iterator>
 
 namespace unison {
 
 void WarmStartCache::replace(std::vector<ContactKey>& entries) {
-    std::sort(entries.begin(), entries.end());
+    // Two contacts of one step can share a key (the same feature id reported twice, or a sleeping island copying
+    // its hit for each contact). std::sort would leave their order, and so which mask find() returns and whether the
+    // state holds both, to the standard library: a stable sort keeps step order among equal keys, and only the
+    // first of them is kept, so the cache is strictly sorted and the same on every platform.
+    std::stable_sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end(),
+                              [](const ContactKey& a, const ContactKey& b) { return a.sameKey(b); }),
+                  entries.end());
+    assert(std::adjacent_find(entries.begin(), entries.end(),
+                              [](const ContactKey& a, const ContactKey& b) { return !(a < b); }) == entries.end());
     mEntries.swap(entries);
 }
 

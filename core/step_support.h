@@ -3,7 +3,8 @@
 // hash and snapshots are in resolver3d/world3d_state.cpp, on core/state_transfer.h.)
 //
 // Owns no world state; core/world_step.h (the step of World2 and World3) uses it.
-// Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key.
+// Invariants: the cache is strictly sorted by key (a total order on plain integers; no key twice); events come out
+// sorted by body-id key.
 #pragma once
 
 #include "body_store.h"
@@ -43,7 +44,8 @@ public:
         const auto it = std::lower_bound(mEntries.begin(), mEntries.end(), key);
         return it != mEntries.end() && it->sameKey(key) ? &*it : nullptr;
     }
-    /// Replaces the contents with `entries` (sorted here).
+    /// Replaces the contents with `entries`, sorted here by key; of entries with equal keys only the first (in the
+    /// given order) is kept, so the cache never holds a key twice (checked by an assert in debug builds).
     void replace(std::vector<ContactKey>& entries);
     /// Drops the entries of body slot `slot1` (BodyId::index1), keeping the order of the rest. A destroyed body's
     /// entries must go: they are keyed by slot, and a body created later in the slot would inherit them.

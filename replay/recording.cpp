@@ -40,7 +40,8 @@ void recordWith(Recording& rec) {
 
 Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery,
                  const std::string& baseDir) {
-    if (steps < 0) throw ReplayError("record: steps must be >= 0");
+    if (steps < 0 || steps > policy::kMaxTick)
+        throw ReplayError("record: steps must be in [0, " + std::to_string(policy::kMaxTick) + "]");
     if (snapshotEvery < 1) throw ReplayError("record: the snapshot interval must be >= 1");
     const int dimension = sceneDimension(scene);
     if (!inputs.actions.empty() && inputs.dimension != dimension)
@@ -115,7 +116,8 @@ Recording parseRecording(const std::vector<std::uint8_t>& bytes, const std::stri
         rec.snapshots.push_back(std::move(s));
     }
     if (r.ok() && !r.atEnd()) r.fail("unexpected bytes after the snapshots");
-    if (r.ok() && (rec.steps < 0 || rec.snapshotEvery < 1 || rec.hashes.size() != std::size_t(rec.steps) + 1))
+    if (r.ok() && (rec.steps < 0 || rec.steps > policy::kMaxTick || rec.snapshotEvery < 1 ||
+                   rec.hashes.size() != std::size_t(rec.steps) + 1))
         r.fail("inconsistent steps, snapshot interval or hash count");
     if (!r.ok()) throw fail(r.error());
     rec.scene = jsonio::parseJson(sceneText, what + " (scene)");

@@ -145,6 +145,7 @@ struct World2::Hooks {
 };
 
 void World2::step() {
+    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
     Hooks hooks{*this};
     mStep.run(hooks);
     mContactPoints.clear();
@@ -154,6 +155,7 @@ void World2::step() {
                                   c.normalImpulse, dot(c.tangentImpulse, perp), c.feature});
     }
     ++mStepCount;
+    mFault = findNonFinite();
 }
 
 }  // namespace unison

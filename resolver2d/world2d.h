@@ -115,8 +115,12 @@ public:
     /// Removes a body; false for a stale or null id. Its contacts end (end events next step).
     bool destroyBody(BodyId id);
 
-    /// Advances by one step of 1/hz seconds.
+    /// Advances by one step of 1/hz seconds. A world whose state is no longer finite (fault()) does not step.
     void step();
+    /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
+    /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
+    /// (world2d_guard.cpp).
+    const std::string& fault() const { return mFault; }
 
     int bodyCount() const { return mBodies.size(); }
     bool valid(BodyId id) const { return mBodies.valid(id); }
@@ -163,11 +167,15 @@ private:
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
 
+    /// The fault() message for the current state: empty when every hot body record is finite.
+    std::string findNonFinite() const;
+
     WorldDef2 mDef;
     BodyStore<BodyState2, BodyInfo2> mBodies;
     WorldStep<Dim2> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
     std::vector<ContactPoint2> mContactPoints;
     std::uint64_t mStepCount = 0;
+    std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
 };
 
 }  // namespace unison

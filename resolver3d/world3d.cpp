@@ -149,6 +149,7 @@ struct World3::Hooks {
 };
 
 void World3::step() {
+    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
     mCandidates.clear();
     Hooks hooks{*this};
     const CollideBatch batch;  // polyhedra placed once per step for all their pairs
@@ -158,6 +159,7 @@ void World3::step() {
         mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,
                                   c.normalImpulse, c.tangentImpulse, c.feature});
     ++mStepCount;
+    mFault = findNonFinite();
 }
 
 }  // namespace unison

@@ -129,8 +129,12 @@ public:
     /// step).
     bool destroyBody(BodyId id);
 
-    /// Advances by one step of 1/hz seconds.
+    /// Advances by one step of 1/hz seconds. A world whose state is no longer finite (fault()) does not step.
     void step();
+    /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
+    /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
+    /// (world3d_guard.cpp).
+    const std::string& fault() const { return mFault; }
 
     int bodyCount() const { return mBodies.size(); }
     bool valid(BodyId id) const { return mBodies.valid(id); }
@@ -179,6 +183,9 @@ private:
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
 
+    /// The fault() message for the current state: empty when every hot body record is finite.
+    std::string findNonFinite() const;
+
     WorldDef3 mDef;
     BodyStore<BodyState3, BodyInfo3> mBodies;
     WorldStep<Dim3> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
@@ -186,6 +193,7 @@ private:
     bool mCapture = false;
     std::vector<ManifoldPoint3> mCandidates;
     std::uint64_t mStepCount = 0;
+    std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
 };
 
 }  // namespace unison

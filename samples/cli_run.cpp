@@ -28,6 +28,7 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
     double maxResidual = 0.0, maxPenetration = 0.0;
     for (int s = 1; s <= steps; ++s) {
         world.step();
+        if (!world.fault().empty()) throw InputError(what + ": " + world.fault());
         const StepStats2& st = world.stats();
         totalPivots += st.pivots;
         maxIslandPivots = std::max(maxIslandPivots, st.maxIslandPivots);

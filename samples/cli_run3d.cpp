@@ -20,6 +20,7 @@ int runScene3(const nlohmann::json& scene, const std::string& what, int steps, i
     double maxResidual = 0.0, maxPenetration = 0.0;
     for (int s = 1; s <= steps; ++s) {
         world.step();
+        if (!world.fault().empty()) throw InputError(what + ": " + world.fault());
         const StepStats3& st = world.stats();
         totalPivots += st.pivots;
         maxIslandPivots = std::max(maxIslandPivots, st.maxIslandPivots);
