@@ -304,6 +304,25 @@ void stepState(Io& io, Cache& cache, Pairs& touching) {
     requireSorted(io, touching, "touching pairs");
 }
 
+/// Reading only: every cache entry names two different body slots of the table (index1 in 1..slotCount; a destroyed
+/// body's entries are dropped with it, its slot stays in the table) and every touching pair is ordered a < b, as the
+/// step makes them.
+template <class Io, class Cache, class Pairs>
+void checkStepState(Io& io, const Cache& cache, std::size_t slotCount, const Pairs& touching) {
+    for (const ContactKey& e : cache.entries()) {
+        if (e.slotA == 0 || e.slotB == 0 || e.slotA > slotCount || e.slotB > slotCount || e.slotA == e.slotB) {
+            io.fail("warm-start cache: an entry names no pair of body slots");
+            return;
+        }
+    }
+    for (const auto& pair : touching) {
+        if (!(pair.first < pair.second)) {
+            io.fail("touching pairs: a pair is not ordered");
+            return;
+        }
+    }
+}
+
 /// The bytes a state walk writes (walk(ByteSink&)).
 template <class Walk>
 std::vector<std::uint8_t> stateBytes(Walk walk) {

@@ -13,6 +13,7 @@
 #include "body_store.h"
 #include "collide2d.h"
 #include "dim2.h"
+#include "input_policy.h"
 #include "lcp.h"
 #include "shapes2d.h"
 #include "state_io.h"
@@ -109,8 +110,8 @@ public:
     explicit World2(const WorldDef2& def = {});
 
     /// Creates a body with its shapes (body-frame coordinates). Returns a null id and an error message when the
-    /// definition is invalid (non-finite values, a dynamic body without mass, too many bodies); the world is
-    /// unchanged then.
+    /// definition is invalid (values outside core/input_policy.h's ranges, an inconsistent polygon, a dynamic body
+    /// without mass, too many bodies); the world is unchanged then.
     BodyId createBody(const BodyDef2& def, const std::vector<Shape2>& shapes, std::string* error = nullptr);
     /// Removes a body; false for a stale or null id. Its contacts end (end events next step).
     bool destroyBody(BodyId id);
@@ -119,7 +120,7 @@ public:
     void step();
     /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
     /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
-    /// (world2d_guard.cpp).
+    /// (world2d_checks.cpp).
     const std::string& fault() const { return mFault; }
 
     int bodyCount() const { return mBodies.size(); }
@@ -129,11 +130,18 @@ public:
     const BodyInfo2* info(BodyId id) const;
     /// Body angle (rad) from its rotation, through the deterministic atan2.
     double angle(BodyId id) const;
-    /// Sets the velocity of a body (wakes it).
+    /// Sets the velocity of a body (wakes it). False (nothing changes) for an invalid id, a static body or a
+    /// velocity outside core/input_policy.h's ranges.
     bool setVelocity(BodyId id, Vec2 v, double w);
-    /// Adds an impulse (N s) at a world point (wakes the body).
+    /// Adds an impulse (N s) at a world point (wakes the body). False (nothing changes) for an invalid id, a body
+    /// that is not dynamic, or an impulse outside the policy's range.
     bool applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint);
-    void setGravity(Vec2 g) { mDef.gravity = g; }
+    /// Sets gravity (m/s^2); false (nothing changes) outside the policy's range.
+    bool setGravity(Vec2 g) {
+        if (!policy::within(g.x, policy::kMaxGravity) || !policy::within(g.y, policy::kMaxGravity)) return false;
+        mDef.gravity = g;
+        return true;
+    }
     const WorldDef2& def() const { return mDef; }
 
     /// Body ids in dense order (the order every loop of the step uses).

@@ -14,6 +14,7 @@
 #include "world2d.h"
 
 #include "state_transfer.h"
+#include "world2d_checks.h"
 
 #include <cmath>
 #include <cstring>
@@ -100,6 +101,12 @@ void body(Io& io, Hot& s, Cold& info) {
     io.f64("sleepTime", info.sleepTime);
     boolean(io, "awake", info.awake);
     sequence(io, "shapes", info.shapes, 8, [&](auto& sh) { shape(io, sh); });
+    if constexpr (Io::kReading) {
+        if (io.ok()) {
+            const std::string why = checkBodyRecord2(s, info);  // as strict as createBody()
+            if (!why.empty()) io.fail(why);
+        }
+    }
 }
 
 }  // namespace
@@ -121,6 +128,9 @@ void World2::transferState(Io& io, Self& world) {
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold); });
 
     stepState(io, world.mStep.cache, world.mStep.touching);
+    if constexpr (Io::kReading) {
+        if (io.ok()) checkStepState(io, world.mStep.cache, world.mBodies.slots().size(), world.mStep.touching);
+    }
 }
 
 std::uint64_t World2::stateHash() const {

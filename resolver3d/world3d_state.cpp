@@ -14,6 +14,7 @@
 #include "world3d.h"
 
 #include "state_transfer.h"
+#include "world3d_checks.h"
 
 #include <cmath>
 
@@ -208,7 +209,10 @@ void body(Io& io, Hot& s, Cold& info, SharedGeometry& shared) {
     boolean(io, "awake", info.awake);
     sequence(io, "shapes", info.shapes, 100, [&](auto& sh) { shape(io, sh, shared); });
     if constexpr (Io::kReading) {
-        if (io.ok() && !(info.mass >= 0.0 && info.invMass >= 0.0)) io.fail("body: mass must be >= 0");
+        if (io.ok()) {
+            const std::string why = checkBodyRecord3(s, info);  // as strict as createBody()
+            if (!why.empty()) io.fail(why);
+        }
     }
 }
 
@@ -237,6 +241,9 @@ void World3::transferState(Io& io, Self& world) {
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold, shared); });
 
     stepState(io, world.mStep.cache, world.mStep.touching);
+    if constexpr (Io::kReading) {
+        if (io.ok()) checkStepState(io, world.mStep.cache, world.mBodies.slots().size(), world.mStep.touching);
+    }
 }
 
 std::uint64_t World3::stateHash() const {
