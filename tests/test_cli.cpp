@@ -1,65 +1,15 @@
 // tests/test_cli.cpp — the `unison` tool's contract: formats, JSON output and exit codes (0 solved, 1 unsolved,
 // 2 bad input), run as a real process on files written to a temporary folder.
+#include "cli_runner.h"
+
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
-
-namespace {
-
-struct Run {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string tempPath(const std::string& name) {
-    const char* dir = std::getenv("TMPDIR");
-    return std::string(dir ? dir : "/tmp") + "/unison_test_cli_" + std::to_string(::getpid()) + "_" + name;
-}
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-    const std::string path = tempPath(name);
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-// Every line of `out` parsed as JSON.
-std::vector<nlohmann::json> jsonLines(const std::string& out) {
-    std::vector<nlohmann::json> lines;
-    std::size_t start = 0;
-    for (std::size_t end; (end = out.find('\n', start)) != std::string::npos; start = end + 1)
-        lines.push_back(nlohmann::json::parse(out.substr(start, end - start)));
-    return lines;
-}
-
-Run unison(const std::string& args) {
-    const std::string out = tempPath("stdout"), err = tempPath("stderr");
-    const std::string cmd = std::string(UNISON_CLI_PATH) + " " + args + " >" + out + " 2>" + err;
-    const int status = std::system(cmd.c_str());
-    Run r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    std::remove(out.c_str());
-    std::remove(err.c_str());
-    return r;
-}
-
-}  // namespace
 
 TEST_SUITE("cli") {
 
