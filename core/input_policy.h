@@ -36,6 +36,13 @@ constexpr std::size_t kMaxShapesPerBody = 256;
 constexpr std::size_t kMaxMeshVertices = std::size_t(1) << 20;
 constexpr std::size_t kMaxMeshTriangles = std::size_t(1) << 21;
 
+// ---- A world's state (snapshots, and the check after every step) -------------------------------------------------
+// Wider than the creation ranges: bodies fall and speed up. A step that leaves these ranges stops the world with a
+// clear error (World2/3::fault()), and restore() accepts exactly the states inside them, so a world's own snapshot
+// always restores. At 1e9 m a double still resolves 0.1 micrometre.
+constexpr double kMaxStateCoordinate = 1.0e9;   ///< |each coordinate| of a body's position and centre (m)
+constexpr double kMaxStateSpeed = 1.0e9;        ///< |each component| of a linear (m/s) or angular (rad/s) velocity
+
 // ---- Inputs (recordings, the network) ----------------------------------------------------------------------------
 constexpr double kMaxImpulse = 1.0e9;           ///< |each impulse component| (N s)
 constexpr double kMaxForce = 1.0e9;             ///< |each force component| (N)

@@ -94,7 +94,7 @@ std::string firstNonFinite(const std::vector<StateField>& fields) {
         if (!f.real) continue;
         double v;
         std::memcpy(&v, &f.bits, sizeof v);
-        if (!std::isfinite(v)) return describeBody(f.body) + " " + f.path + " is " + f.text();
+        if (!std::isfinite(v)) return describeBody(f.body) + " " + f.path + " is " + f.text() + " (overflow)";
     }
     return {};
 }

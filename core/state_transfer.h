@@ -5,6 +5,7 @@
 // Header-only because the walks are templates over these types; internal to the world state files.
 #pragma once
 
+#include "input_policy.h"
 #include "state_io.h"
 #include "step_support.h"
 
@@ -266,7 +267,13 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     io.i32("lcp.blockPivotRounds", def.lcp.blockPivotRounds);
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
-        if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
+        // The ranges a scene file may set (core/input_policy.h); the rest must be >= 0 and not absurd.
+        if (!policy::inRange(def.hz, policy::kMinHz, policy::kMaxHz)) io.fail("def.hz out of range");
+        if (!policy::inRange(def.restitutionThreshold, 0.0, policy::kMaxRestitutionThreshold))
+            io.fail("def.restitutionThreshold out of range");
+        for (double x : {def.linearSlop, def.baumgarte, def.maxCorrectionSpeed, def.speculativeDistance,
+                         def.tangentDeadZone, def.linearSleepTolerance, def.angularSleepTolerance, def.timeToSleep})
+            if (!policy::inRange(x, 0.0, 1.0e6)) io.fail("def: step or sleep settings out of range");
         if (def.lcp.maxPivots < 0 || !(def.lcp.pivotTolerance >= 0.0 && def.lcp.pivotTolerance < 1.0) ||
             def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0 || def.lcp.blockPivotRounds < 0 ||
             def.lcp.blockPivotRounds > 8)

@@ -4,8 +4,10 @@
 // Why the step check: inputs within core/input_policy.h keep every number many orders of magnitude below overflow,
 // but a world built through the C++ API with settings outside it (dt = 1e300, say) could be flung to infinity. A
 // NaN must not then travel on silently: the next step would sort bounding boxes of NaN (undefined behaviour in
-// std::sort) and print `null` for positions. The check reads the hot records only (9 doubles per body), so it costs
-// nothing next to the step; the slow named-field walk runs only once something is wrong, to say which field.
+// std::sort) and print `null` for positions. The check is the state range of restore() (finite, positions within
+// 1e9 m, speeds within 1e9), so every state a step leaves behind without a fault restores from its snapshot. It
+// reads the hot records only (9 doubles per body), so it costs nothing next to the step; the slow named-field walk
+// runs only once something is wrong, to say which field.
 #include "world2d_checks.h"
 
 #include "input_policy.h"
@@ -73,7 +75,18 @@ std::string checkBodyDef2(const BodyDef2& def, const std::vector<Shape2>& shapes
     return {};
 }
 
+std::string checkMotion2(const BodyState2& s) {
+    if (!within(s.position, policy::kMaxStateCoordinate) || !within(s.center, policy::kMaxStateCoordinate))
+        return "position outside the supported range (|x| <= 1e9 m)";
+    if (!within(s.velocity, policy::kMaxStateSpeed) || !policy::within(s.angularVelocity, policy::kMaxStateSpeed))
+        return "velocity outside the supported range (|v| <= 1e9)";
+    if (!std::isfinite(s.rotation.c) || !std::isfinite(s.rotation.s)) return "rotation is not finite";
+    return {};
+}
+
 std::string checkBodyRecord2(const BodyState2& s, const BodyInfo2& info) {
+    const std::string motion = checkMotion2(s);
+    if (!motion.empty()) return "body: " + motion;
     if (!(std::fabs(s.rotation.c * s.rotation.c + s.rotation.s * s.rotation.s - 1.0) <= 1e-6))
         return "body: rotation is not a unit (cos, sin) pair";
     if (info.type == BodyType::dynamicBody) {
@@ -93,13 +106,13 @@ std::string checkBodyRecord2(const BodyState2& s, const BodyInfo2& info) {
 }
 
 std::string World2::findNonFinite() const {
-    for (const BodyState2& s : mBodies.hotArray()) {
-        const double v[] = {s.position.x, s.position.y, s.rotation.c, s.rotation.s, s.center.x,
-                            s.center.y,   s.velocity.x, s.velocity.y, s.angularVelocity};
-        for (double x : v) {
-            if (!std::isfinite(x))
-                return "step " + std::to_string(mStepCount) + " overflowed: " + firstNonFinite(stateFields());
-        }
+    const auto& hot = mBodies.hotArray();
+    for (std::size_t d = 0; d < hot.size(); ++d) {
+        const std::string why = checkMotion2(hot[d]);
+        if (why.empty()) continue;
+        const std::string field = firstNonFinite(stateFields());  // names the field when it is not finite
+        return "step " + std::to_string(mStepCount) + ": " +
+               (field.empty() ? describeBody(mBodies.idAt(int(d))) + " " + why : field);
     }
     return {};
 }

@@ -17,6 +17,9 @@ namespace unison {
 std::string checkShape2(const Shape2& shape);
 /// Why a new body breaks the policy (position, angle, velocities, shape count, each shape), or empty.
 std::string checkBodyDef2(const BodyDef2& def, const std::vector<Shape2>& shapes);
+/// Why a body's motion is outside the state range of core/input_policy.h (not finite, |position| > 1e9 m,
+/// |velocity| > 1e9), or empty: the check after every step and on restore.
+std::string checkMotion2(const BodyState2& state);
 /// Why a restored body record is inconsistent (rotation not unit; mass, inertia or their inverses not those of its
 /// type; shapes), or empty.
 std::string checkBodyRecord2(const BodyState2& state, const BodyInfo2& info);

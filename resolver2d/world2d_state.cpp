@@ -123,6 +123,9 @@ void World2::transferState(Io& io, Self& world) {
         }
     });
     io.pop();
+    if constexpr (Io::kReading) {
+        if (!policy::within(def.gravity.x, policy::kMaxGravity) || !policy::within(def.gravity.y, policy::kMaxGravity)) io.fail("def.gravity out of range");
+    }
     io.u64("stepCount", world.mStepCount);
 
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold); });

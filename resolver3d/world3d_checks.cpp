@@ -98,7 +98,19 @@ std::string checkBodyDef3(const BodyDef3& def, const std::vector<Shape3>& shapes
     return {};
 }
 
+std::string checkMotion3(const BodyState3& s) {
+    if (!within(s.position, policy::kMaxStateCoordinate) || !within(s.center, policy::kMaxStateCoordinate))
+        return "position outside the supported range (|x| <= 1e9 m)";
+    if (!within(s.velocity, policy::kMaxStateSpeed) || !within(s.angularVelocity, policy::kMaxStateSpeed))
+        return "velocity outside the supported range (|v| <= 1e9)";
+    const Quat& q = s.rotation;
+    if (!std::isfinite(q.w) || !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z)) return "rotation is not finite";
+    return {};
+}
+
 std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
+    const std::string motion = checkMotion3(s);
+    if (!motion.empty()) return "body: " + motion;
     const Quat& q = s.rotation;
     if (!(std::fabs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1.0) <= 1e-6)) return "body: rotation is not a unit quaternion";
     if (info.type == BodyType3::dynamicBody) {
@@ -124,12 +136,13 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
 }
 
 std::string World3::findNonFinite() const {
-    for (const BodyState3& s : mBodies.hotArray()) {
-        const Quat& q = s.rotation;
-        const bool finite = D3::finite(s.position) && D3::finite(s.center) && D3::finite(s.velocity) &&
-                            D3::finite(s.angularVelocity) && std::isfinite(q.w) && std::isfinite(q.x) &&
-                            std::isfinite(q.y) && std::isfinite(q.z);
-        if (!finite) return "step " + std::to_string(mStepCount) + " overflowed: " + firstNonFinite(stateFields());
+    const auto& hot = mBodies.hotArray();
+    for (std::size_t d = 0; d < hot.size(); ++d) {
+        const std::string why = checkMotion3(hot[d]);
+        if (why.empty()) continue;
+        const std::string field = firstNonFinite(stateFields());  // names the field when it is not finite
+        return "step " + std::to_string(mStepCount) + ": " +
+               (field.empty() ? describeBody(mBodies.idAt(int(d))) + " " + why : field);
     }
     return {};
 }

@@ -235,6 +235,9 @@ void World3::transferState(Io& io, Self& world) {
         }
     });
     io.pop();
+    if constexpr (Io::kReading) {
+        if (!policy::within(def.gravity.x(), policy::kMaxGravity) || !policy::within(def.gravity.y(), policy::kMaxGravity) || !policy::within(def.gravity.z(), policy::kMaxGravity)) io.fail("def.gravity out of range");
+    }
     io.u64("stepCount", world.mStepCount);
 
     SharedGeometry shared;
