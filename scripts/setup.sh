@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # Installs every build, test and benchmark dependency of Unison from Debian packages.
 # Safe to run again: apt-get skips what is already installed.
-# Usage: scripts/setup.sh [--determinism]   (--determinism adds clang, the aarch64 cross compiler and qemu-user for
-# scripts/determinism.sh)
+# Usage: scripts/setup.sh [--determinism | --sanitize]   (--determinism adds clang, the aarch64 cross compiler and
+# qemu-user for scripts/determinism.sh; --sanitize adds clang and its sanitizer and libFuzzer runtimes for
+# scripts/sanitize.sh and scripts/fuzz.sh)
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
           libsiconos-numerics-dev libbullet-dev pkg-config)
 if [ "${1:-}" = "--determinism" ]; then
   packages+=(clang g++-aarch64-linux-gnu qemu-user)
+fi
+if [ "${1:-}" = "--sanitize" ]; then
+  packages+=(clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do
