@@ -38,15 +38,25 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::vector<std::uint8_t> payload(data + 3, data + size);
     const std::vector<std::uint8_t> framed =
         frameSnapshot(is3d ? SnapshotKind::world3 : SnapshotKind::world2, bodies, payload);
+    // The live world: the base scene after one step (bodies, contacts, a warm-start cache), restored afresh from
+    // its own snapshot for every input.
     if (is3d) {
-        static scenes::LoadedScene3 base = scenes::loadScene3(nlohmann::json::parse(kScene3), "base");
-        World3 world = *base.world;
-        world.step();
+        static const std::vector<std::uint8_t> base = [] {
+            scenes::LoadedScene3 loaded = scenes::loadScene3(nlohmann::json::parse(kScene3), "base");
+            loaded.world->step();
+            return loaded.world->snapshot();
+        }();
+        World3 world;
+        fuzz::require(world.restore(base.data(), base.size()), "the base world restores");
         restoreInto(world, framed);
     } else {
-        static scenes::LoadedScene2 base = scenes::loadScene2(nlohmann::json::parse(kScene2), "base");
-        World2 world = *base.world;
-        world.step();
+        static const std::vector<std::uint8_t> base = [] {
+            scenes::LoadedScene2 loaded = scenes::loadScene2(nlohmann::json::parse(kScene2), "base");
+            loaded.world->step();
+            return loaded.world->snapshot();
+        }();
+        World2 world;
+        fuzz::require(world.restore(base.data(), base.size()), "the base world restores");
         restoreInto(world, framed);
     }
     return 0;

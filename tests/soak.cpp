@@ -4,7 +4,7 @@
 // dynamic body falls through the ground), bounded memory (resident size after the warm-up may not grow by more than
 // 64 MB), and the same chain hash twice: the second run is restored from the first run's snapshot at half time.
 //
-// Usage: unison_soak [--steps N] [--quick]   (--quick: 3,000 steps, the ctest entry soak_quick)
+// Usage: unison_soak [--steps N] [--quick]   (--quick: 1,000 steps, the ctest entry soak_quick)
 // Prints one JSON line; exits 0 when every check held, 1 otherwise (with the reason on stderr).
 #include "scene_json.h"
 #include "scene_json3d.h"
@@ -163,7 +163,7 @@ RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>*
 int main(int argc, char** argv) {
     int steps = 100000;
     for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--quick") == 0) steps = 3000;
+        if (std::strcmp(argv[i], "--quick") == 0) steps = 1000;
         if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
     }
     if (steps < 2) steps = 2;

@@ -222,7 +222,9 @@ TEST_CASE("OBJ files stay inside the scene's folder, are regular files, and are 
         {"missing.obj", "not a regular file"},
         {"secret.obj", "secret.obj:1: bad coordinate"},
     };
-    for (const auto& [obj, fragment] : cases) {
+    for (const auto& item : cases) {
+        const std::string& obj = item.first;  // no structured binding: clang 14 cannot CAPTURE one
+        const std::string& fragment = item.second;
         CAPTURE(obj);
         const fs::path scene = dir / "scene.json";
         write(scene, scene3("{\"type\": \"mesh\", \"obj\": \"" + obj + "\"}"));
