@@ -54,7 +54,10 @@ constexpr double kMaxMass = 1.0e12;             ///< kg
 constexpr double kMinInertia = 1.0e-12;         ///< kg m^2 (2D scalar; 3D diagonal)
 constexpr double kMaxInertia = 1.0e18;          ///< kg m^2 (|each entry|)
 constexpr std::size_t kMaxResolveBodies = 10000;
-constexpr std::size_t kMaxResolveContacts = 512;  ///< the friction LCP is dense: (k + 2) x 512 unknowns
+constexpr std::size_t kMaxResolveContacts = 256;  ///< the friction LCP is dense: (k + 2) x 256 unknowns
+/// Pivot cap of `unison resolve` per LCP unknown (plus 100): Lemke needs about one to two per unknown on real
+/// contact sets; a crafted set that needs more is reported as pivot_limit in seconds, not minutes.
+constexpr int kResolvePivotsPerUnknown = 4;
 
 // ---- LCP text (`unison lcp`) -------------------------------------------------------------------------------------
 constexpr std::size_t kMaxLcpSize = 1000;       ///< n

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace unison {
 
@@ -173,7 +172,11 @@ std::string makeMesh(const std::vector<Vec3>& vertices, const std::vector<std::a
     if (nv < 4 || triangles.size() < 4) return "mesh: needs at least 4 vertices and 4 triangles";
     for (const Vec3& v : vertices)
         if (!finite3(v)) return "mesh: vertices must be finite";
-    std::map<std::pair<int, int>, int> directed;
+    // Directed edges as sorted 64-bit keys (8 bytes each, not a tree node each: a 2-million-triangle mesh from a
+    // 16 MiB OBJ file is checked in 48 MB).
+    std::vector<std::uint64_t> directed;
+    directed.reserve(3 * triangles.size());
+    auto key = [](int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); };
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const auto& tri = triangles[t];
         for (int k = 0; k < 3; ++k) {
@@ -182,13 +185,14 @@ std::string makeMesh(const std::vector<Vec3>& vertices, const std::vector<std::a
         }
         if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2])
             return "mesh: triangle " + std::to_string(t) + " repeats a vertex";
-        for (int k = 0; k < 3; ++k) {
-            if (++directed[{tri[std::size_t(k)], tri[std::size_t((k + 1) % 3)]}] > 1)
-                return "mesh: edge used twice in the same direction (inconsistent orientation or non-manifold)";
-        }
+        for (int k = 0; k < 3; ++k) directed.push_back(key(tri[std::size_t(k)], tri[std::size_t((k + 1) % 3)]));
     }
-    for (const auto& e : directed)
-        if (!directed.count({e.first.second, e.first.first})) return "mesh: not closed (an edge has one triangle)";
+    std::sort(directed.begin(), directed.end());
+    if (std::adjacent_find(directed.begin(), directed.end()) != directed.end())
+        return "mesh: edge used twice in the same direction (inconsistent orientation or non-manifold)";
+    for (std::uint64_t e : directed)
+        if (!std::binary_search(directed.begin(), directed.end(), (e << 32) | (e >> 32)))
+            return "mesh: not closed (an edge has one triangle)";
     const MassData3 md = integrateSolid(vertices, triangles);
     if (!(md.mass > 0.0)) return "mesh: volume must be > 0 (triangles counter-clockwise seen from outside)";
     auto mesh = std::make_shared<TriangleMesh>();

@@ -108,6 +108,9 @@ CommandOutput resolveDim(const nlohmann::json& input, const std::string& what) {
         options.restitutionThreshold =
             jsonio::numberIn(*t, what + ".restitution_threshold", 0.0, policy::kMaxRestitutionThreshold);
     }
+    // Bounded work: at most 4 pivots per unknown of the (friction) LCP.
+    const int unknowns = int(contacts.size()) * (friction ? 2 + D::frictionDirectionCount(options.frictionDirections) : 1);
+    options.lcp.maxPivots = policy::kResolvePivotsPerUnknown * unknowns + 100;
     const std::string problem = validate(bodies, contacts);
     if (!problem.empty()) throw InputError(what + ": " + problem);
 
