@@ -8,9 +8,11 @@
 #pragma once
 
 #include "body_store.h"
+#include "state_io.h"
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -91,6 +93,21 @@ inline void storeBasis(const std::vector<int>& basis, int nc, int k, bool fricti
         }
         if (ci >= 0 && ci < nc) first[ci].basicMask |= bit;
     }
+}
+
+/// The fault of a world after its step `step` (World2/3::fault()): empty when motionProblem(hot record) is empty
+/// for every body, else "step N: " and the first non-finite field of fields() (the slow named walk, run only then)
+/// or, for a finite value out of range, the body and the problem.
+template <class Store, class Check, class Fields>
+std::string stepFault(const Store& bodies, std::uint64_t step, Check motionProblem, Fields fields) {
+    const auto& hot = bodies.hotArray();
+    for (std::size_t d = 0; d < hot.size(); ++d) {
+        const std::string why = motionProblem(hot[d]);
+        if (why.empty()) continue;
+        const std::string field = firstNonFinite(fields());
+        return "step " + std::to_string(step) + ": " + (field.empty() ? describeBody(bodies.idAt(int(d))) + " " + why : field);
+    }
+    return {};
 }
 
 /// Key of a body id for touch pairs: generation in the high half, slot + 1 in the low half.

@@ -159,7 +159,7 @@ void World2::step() {
                                   c.normalImpulse, dot(c.tangentImpulse, perp), c.feature});
     }
     ++mStepCount;
-    mFault = findNonFinite();
+    mFault = findFault();
 }
 
 }  // namespace unison

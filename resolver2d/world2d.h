@@ -176,7 +176,7 @@ private:
     static void transferState(Io& io, Self& world);
 
     /// The fault() message for the current state: empty when every hot body record is finite.
-    std::string findNonFinite() const;
+    std::string findFault() const;
 
     WorldDef2 mDef;
     BodyStore<BodyState2, BodyInfo2> mBodies;

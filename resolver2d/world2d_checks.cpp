@@ -105,16 +105,8 @@ std::string checkBodyRecord2(const BodyState2& s, const BodyInfo2& info) {
     return {};
 }
 
-std::string World2::findNonFinite() const {
-    const auto& hot = mBodies.hotArray();
-    for (std::size_t d = 0; d < hot.size(); ++d) {
-        const std::string why = checkMotion2(hot[d]);
-        if (why.empty()) continue;
-        const std::string field = firstNonFinite(stateFields());  // names the field when it is not finite
-        return "step " + std::to_string(mStepCount) + ": " +
-               (field.empty() ? describeBody(mBodies.idAt(int(d))) + " " + why : field);
-    }
-    return {};
+std::string World2::findFault() const {
+    return stepFault(mBodies, mStepCount, checkMotion2, [this] { return stateFields(); });
 }
 
 }  // namespace unison

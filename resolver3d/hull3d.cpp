@@ -26,11 +26,9 @@ constexpr int kMaxTrials = 20000;  // triples tried by all faces together (bound
 
 double norm(const Vec3& v) { return std::sqrt(D3::dot(v, v)); }
 
-/// The definition's tolerances: a point is above a plane when it is more than eps above it, on a face within 10 eps.
-struct Tolerance {
-    double scale = 0.0;  ///< largest |coordinate|
-    double eps = 0.0;    ///< 1e-9 max(scale, 1e-3)
-};
+}  // namespace
+
+namespace hull_detail {
 
 Tolerance toleranceOf(const std::vector<Vec3>& pts) {
     Tolerance t;
@@ -39,8 +37,6 @@ Tolerance toleranceOf(const std::vector<Vec3>& pts) {
     return t;
 }
 
-/// The face triple (i, j, k) spans by the definition: the unit normal of (pj - pi) x (pk - pi) turned outward and
-/// its offset. False when the triple spans none (degenerate, points on both sides, or every point on its plane).
 bool tripleFace(const std::vector<Vec3>& pts, int i, int j, int k, const Tolerance& tol, ConvexPolyhedron::Face* out) {
     const std::size_t si = std::size_t(i);
     Vec3 nn = D3::cross(D3::sub(pts[std::size_t(j)], pts[si]), D3::sub(pts[std::size_t(k)], pts[si]));
@@ -60,6 +56,20 @@ bool tripleFace(const std::vector<Vec3>& pts, int i, int j, int k, const Toleran
     out->offset = D3::dot(nn, pts[si]);
     return true;
 }
+
+void mergeFace(std::vector<ConvexPolyhedron::Face>& faces, const ConvexPolyhedron::Face& f, const Tolerance& tol) {
+    bool known = false;
+    for (const auto& g : faces)
+        known = known || (norm(D3::sub(g.normal, f.normal)) < 1e-7 && std::fabs(g.offset - f.offset) < 10.0 * tol.eps);
+    if (!known) faces.push_back(f);
+}
+
+}  // namespace hull_detail
+
+namespace {
+
+using hull_detail::Tolerance;
+using hull_detail::tripleFace;
 
 /// An incremental convex hull in triangles: only a source of candidate face planes (see the file comment).
 class TriangleHull {
@@ -232,9 +242,10 @@ bool definingTriple(const std::vector<Vec3>& pts, const std::array<int, 3>& tri,
     return false;
 }
 
-/// Vertices, loops, edges and centroid from the face planes, as the definition gives them.
-std::string finishPolyhedron(const std::vector<Vec3>& pts, std::vector<ConvexPolyhedron::Face> faces, const Tolerance& tol,
-                             ConvexPolyhedron* out) {
+}  // namespace
+
+std::string hull_detail::finishPolyhedron(const std::vector<Vec3>& pts, std::vector<ConvexPolyhedron::Face> faces,
+                                          const Tolerance& tol, ConvexPolyhedron* out) {
     const double eps = tol.eps;
     const int n = int(pts.size());
     // Vertices: points on at least three face planes (extreme points); loops sorted by angle about the face centre.
@@ -293,11 +304,9 @@ std::string finishPolyhedron(const std::vector<Vec3>& pts, std::vector<ConvexPol
     return {};
 }
 
-}  // namespace
-
 std::string buildPolyhedron(const std::vector<Vec3>& pts, ConvexPolyhedron* out) {
     if (pts.size() < 4 || pts.size() > kMaxHullPoints) return "hull: needs 4.." + std::to_string(kMaxHullPoints) + " points";
-    const Tolerance tol = toleranceOf(pts);
+    const Tolerance tol = hull_detail::toleranceOf(pts);
     TriangleHull hull(pts, tol);
     std::string why;
     if (!hull.build(&why)) return why;
@@ -315,14 +324,11 @@ std::string buildPolyhedron(const std::vector<Vec3>& pts, ConvexPolyhedron* out)
     for (const auto& t : triples) {
         ConvexPolyhedron::Face f;
         tripleFace(pts, t[0], t[1], t[2], tol, &f);
-        bool known = false;
-        for (const auto& g : faces)
-            known = known || (norm(D3::sub(g.normal, f.normal)) < 1e-7 && std::fabs(g.offset - f.offset) < 10.0 * tol.eps);
-        if (!known) faces.push_back(f);
+        hull_detail::mergeFace(faces, f, tol);
     }
     if (faces.size() < 4) return "hull: points must span a volume";
     ConvexPolyhedron poly;
-    const std::string err = finishPolyhedron(pts, std::move(faces), tol, &poly);
+    const std::string err = hull_detail::finishPolyhedron(pts, std::move(faces), tol, &poly);
     if (!err.empty()) return err;
     const std::string bad = checkPolyhedron(poly);
     if (!bad.empty()) return "hull: numerically degenerate points (" + bad + ")";
@@ -336,7 +342,7 @@ std::string checkPolyhedron(const ConvexPolyhedron& poly) {
     if (nf < 4 || nf > 2 * nv) return "polyhedron: face count out of range";
     for (const Vec3& v : poly.vertices)
         if (!D3::finite(v)) return "polyhedron: vertices must be finite";
-    const double tol = 1e-7 * std::max(toleranceOf(poly.vertices).scale, 1e-3);
+    const double tol = 1e-7 * std::max(hull_detail::toleranceOf(poly.vertices).scale, 1e-3);
     // Directed loop edges (a, b, face), sorted: each must be unique and have its reverse in another face.
     std::vector<std::array<int, 3>> directed;
     std::vector<int> facesOfVertex(nv, 0);

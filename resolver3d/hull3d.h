@@ -29,4 +29,25 @@ std::string buildPolyhedron(const std::vector<Vec3>& pts, ConvexPolyhedron* out)
 /// invariants above; plane tolerances scale with the largest coordinate), else the first problem found.
 std::string checkPolyhedron(const ConvexPolyhedron& poly);
 
+/// The pieces of the definition, shared by buildPolyhedron and the brute-force reference of tests/test_hull3d.cpp.
+namespace hull_detail {
+
+/// The definition's tolerances: a point is above a plane when it is more than eps above it, on a face within 10 eps.
+struct Tolerance {
+    double scale = 0.0;  ///< largest |coordinate| (m)
+    double eps = 0.0;    ///< 1e-9 max(scale, 1e-3) (m)
+};
+/// The tolerances of a point set.
+Tolerance toleranceOf(const std::vector<Vec3>& pts);
+/// The face triple (i, j, k) spans: the unit normal of (pj - pi) x (pk - pi) turned outward and its offset. False
+/// when the triple spans none (degenerate, points on both sides, or every point on its plane).
+bool tripleFace(const std::vector<Vec3>& pts, int i, int j, int k, const Tolerance& tol, ConvexPolyhedron::Face* out);
+/// Appends `face` unless a face with the same plane (normals within 1e-7, offsets within 10 eps) is already there.
+void mergeFace(std::vector<ConvexPolyhedron::Face>& faces, const ConvexPolyhedron::Face& face, const Tolerance& tol);
+/// Vertices (points on three or more face planes), counter-clockwise loops, edges and centroid from the faces.
+std::string finishPolyhedron(const std::vector<Vec3>& pts, std::vector<ConvexPolyhedron::Face> faces,
+                             const Tolerance& tol, ConvexPolyhedron* out);
+
+}  // namespace hull_detail
+
 }  // namespace unison

@@ -164,7 +164,7 @@ void World3::step() {
         mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,
                                   c.normalImpulse, c.tangentImpulse, c.feature});
     ++mStepCount;
-    mFault = findNonFinite();
+    mFault = findFault();
 }
 
 }  // namespace unison

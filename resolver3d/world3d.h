@@ -195,7 +195,7 @@ private:
     static void transferState(Io& io, Self& world);
 
     /// The fault() message for the current state: empty when every hot body record is finite.
-    std::string findNonFinite() const;
+    std::string findFault() const;
 
     WorldDef3 mDef;
     BodyStore<BodyState3, BodyInfo3> mBodies;

@@ -135,16 +135,8 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
     return {};
 }
 
-std::string World3::findNonFinite() const {
-    const auto& hot = mBodies.hotArray();
-    for (std::size_t d = 0; d < hot.size(); ++d) {
-        const std::string why = checkMotion3(hot[d]);
-        if (why.empty()) continue;
-        const std::string field = firstNonFinite(stateFields());  // names the field when it is not finite
-        return "step " + std::to_string(mStepCount) + ": " +
-               (field.empty() ? describeBody(mBodies.idAt(int(d))) + " " + why : field);
-    }
-    return {};
+std::string World3::findFault() const {
+    return stepFault(mBodies, mStepCount, checkMotion3, [this] { return stateFields(); });
 }
 
 }  // namespace unison

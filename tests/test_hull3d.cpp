@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <map>
 
 using namespace unison;
 
@@ -21,99 +20,21 @@ using D3 = Dim3;
 
 double norm(const Vec3& v) { return std::sqrt(D3::dot(v, v)); }
 
-// The definition, by brute force over every triple of points against every point (O(n^4)): the builder this
-// project used first, kept verbatim as the reference the fast builder must match bit for bit.
+// The definition by brute force: every triple of points against every point (O(n^4)), faces merged in triple order,
+// the way the project first built hulls. The fast builder must give the same polyhedron bit for bit.
 std::string referencePolyhedron(const std::vector<Vec3>& pts, ConvexPolyhedron* out) {
+    const hull_detail::Tolerance tol = hull_detail::toleranceOf(pts);
     const int n = int(pts.size());
-    double scale = 0.0;
-    for (const Vec3& p : pts) scale = std::max(scale, std::max(std::fabs(p.x()), std::max(std::fabs(p.y()), std::fabs(p.z()))));
-    const double eps = 1e-9 * std::max(scale, 1e-3);
     std::vector<ConvexPolyhedron::Face> faces;
-    for (int i = 0; i < n; ++i) {
-        for (int j = i + 1; j < n; ++j) {
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
             for (int k = j + 1; k < n; ++k) {
-                Vec3 nn = D3::cross(D3::sub(pts[std::size_t(j)], pts[std::size_t(i)]), D3::sub(pts[std::size_t(k)], pts[std::size_t(i)]));
-                const double len = norm(nn);
-                if (!(len > eps * std::max(scale, 1e-3))) continue;
-                nn = D3::scale(1.0 / len, nn);
-                const double d = D3::dot(nn, pts[std::size_t(i)]);
-                int above = 0, below = 0;
-                for (int m = 0; m < n && !(above && below); ++m) {
-                    const double s = D3::dot(nn, pts[std::size_t(m)]) - d;
-                    if (s > eps) ++above;
-                    if (s < -eps) ++below;
-                }
-                if (above && below) continue;
-                if (!below && !above) continue;  // all coplanar: no volume
-                if (above) nn = D3::scale(-1.0, nn);
-                const double off = D3::dot(nn, pts[std::size_t(i)]);
-                bool known = false;
-                for (const auto& f : faces) known = known || (norm(D3::sub(f.normal, nn)) < 1e-7 && std::fabs(f.offset - off) < 10.0 * eps);
-                if (!known) faces.push_back({nn, off, {}});
+                ConvexPolyhedron::Face f;
+                if (hull_detail::tripleFace(pts, i, j, k, tol, &f)) hull_detail::mergeFace(faces, f, tol);
             }
-        }
-    }
     if (faces.size() < 4) return "hull: points must span a volume";
-    // Vertices: points on at least three face planes (extreme points); loops sorted by angle about the face centre.
-    std::vector<int> keep(std::size_t(n), -1);
-    ConvexPolyhedron poly;
-    for (int m = 0; m < n; ++m) {
-        int on = 0;
-        for (const auto& f : faces) on += std::fabs(D3::dot(f.normal, pts[std::size_t(m)]) - f.offset) <= 10.0 * eps ? 1 : 0;
-        bool dup = false;
-        for (const Vec3& v : poly.vertices) dup = dup || norm(D3::sub(v, pts[std::size_t(m)])) <= 10.0 * eps;
-        if (on >= 3 && !dup) {
-            keep[std::size_t(m)] = int(poly.vertices.size());
-            poly.vertices.push_back(pts[std::size_t(m)]);
-        }
-    }
-    for (auto& f : faces) {
-        std::vector<int> on;
-        Vec3 c = Vec3::Zero();
-        for (int v = 0; v < int(poly.vertices.size()); ++v) {
-            if (std::fabs(D3::dot(f.normal, poly.vertices[std::size_t(v)]) - f.offset) <= 10.0 * eps) {
-                on.push_back(v);
-                c = D3::add(c, poly.vertices[std::size_t(v)]);
-            }
-        }
-        if (on.size() < 3) return "hull: degenerate face";
-        c = D3::scale(1.0 / double(on.size()), c);
-        Vec3 u = D3::sub(poly.vertices[std::size_t(on[0])], c);
-        u = D3::scale(1.0 / norm(u), u);
-        const Vec3 w = D3::cross(f.normal, u);
-        std::vector<std::pair<double, int>> ang;
-        for (int v : on) {
-            const Vec3 r = D3::sub(poly.vertices[std::size_t(v)], c);
-            ang.emplace_back(dmath::atan2(D3::dot(r, w), D3::dot(r, u)), v);
-        }
-        std::sort(ang.begin(), ang.end());
-        for (const auto& a : ang) f.loop.push_back(a.second);
-    }
-    poly.faces = faces;
-    // Edges with their two faces (each directed edge of a loop appears once; its reverse belongs to the neighbour).
-    std::map<std::pair<int, int>, int> edgeIndex;
-    for (int fi = 0; fi < int(poly.faces.size()); ++fi) {
-        const auto& loop = poly.faces[std::size_t(fi)].loop;
-        for (std::size_t e = 0; e < loop.size(); ++e) {
-            const int a = loop[e], b = loop[(e + 1) % loop.size()];
-            const std::pair<int, int> key(std::min(a, b), std::max(a, b));
-            const auto it = edgeIndex.find(key);
-            if (it == edgeIndex.end()) {
-                edgeIndex.emplace(key, int(poly.edges.size()));
-                poly.edges.push_back({key.first, key.second, fi, -1});
-            } else {
-                poly.edges[std::size_t(it->second)].face1 = fi;
-            }
-        }
-    }
-    for (const auto& e : poly.edges)
-        if (e.face1 < 0) return "hull: open surface (numerically degenerate points)";
-    for (const Vec3& v : poly.vertices) poly.centroid = D3::add(poly.centroid, v);
-    poly.centroid = D3::scale(1.0 / double(poly.vertices.size()), poly.centroid);
-    *out = std::move(poly);
-    return {};
+    return hull_detail::finishPolyhedron(pts, std::move(faces), tol, out);
 }
-
 
 // Deterministic pseudo-random numbers in [0, 1) (splitmix64), so every run tests the same point sets.
 struct Rng {
