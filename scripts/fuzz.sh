@@ -5,7 +5,7 @@
 # Usage: scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]
 #   --seconds S   run each target S seconds (default 25: the CI setting)
 #   --runs N      run each target for N executions instead (docs/input-policy.md lists the long runs)
-#   TARGET        scene2d scene3d lcp resolve inputs recording snapshot (default: all)
+#   TARGET        scene2d scene3d lcp resolve inputs recording snapshot obj (default: all)
 # The seeds in fuzz/corpus/TARGET are copied to build-asan/fuzz-corpus/TARGET, where new inputs accumulate between
 # runs (the repository's corpus stays small). A finding (crash, sanitizer report, leak, timeout, out-of-memory) is
 # saved in build-asan/fuzz-findings/TARGET/ and makes the script exit 1 after all targets ran.
@@ -18,9 +18,9 @@ limit=(-max_total_time=25)
 if [ "${1:-}" = "--seconds" ]; then limit=(-max_total_time="$2"); shift 2; fi
 if [ "${1:-}" = "--runs" ]; then limit=(-runs="$2"); shift 2; fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene2d scene3d lcp resolve inputs recording snapshot)
+[ ${#targets[@]} -eq 0 ] && targets=(scene2d scene3d lcp resolve inputs recording snapshot obj)
 
-if [ ! -x build-asan/fuzz/fuzz_snapshot ]; then scripts/sanitize.sh --build-only; fi
+scripts/sanitize.sh --build-only  # up to date after scripts/sanitize.sh: nothing to do
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 
