@@ -6,7 +6,11 @@
 // (A, b, z) for both, and a status counts as right only when it matches the case's mathematical expectation.
 // Benchmarks report; they never gate CI: the exit code is 0 unless something threw.
 //
+// A second table (bench_lcp_manifolds.cpp) runs the contact LCPs assembled from Box2D 2.4.1's own manifolds of settled
+// pyramids, with Unison's fast path (a hook, the same Lemke until it is wired), Unison's Lemke and Siconos.
+//
 // Usage: bench_lcp [--quick] [--json FILE] [--filter SUBSTRING]
+#include "bench_lcp_manifolds.h"
 #include "lcp.h"
 #include "lcp_families.h"
 #include "siconos_peer.h"
@@ -326,11 +330,14 @@ int main(int argc, char** argv) {
         }
         std::printf("all cases right status: %d/%d\n", unisonAll, all);
 
+        const nlohmann::json manifolds = unison::bench::runManifoldFamily(quick, budgetMs, filter);
+
         if (!jsonPath.empty()) {
             nlohmann::json out;
             out["quick"] = quick;
             out["cases"] = nlohmann::json::array();
             for (const Row& r : rows) out["cases"].push_back(toJson(r));
+            out["box2d_manifold_cases"] = manifolds;
             std::ofstream file(jsonPath);
             file << out.dump(2) << "\n";
             if (!file) std::fprintf(stderr, "bench_lcp: could not write %s\n", jsonPath.c_str());

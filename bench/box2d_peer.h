@@ -62,6 +62,7 @@ public:
     /// The Box2D body of scene body `index` (owned by the world).
     b2Body* body(int index) const { return mBodies.at(std::size_t(index)); }
     b2World& world() { return *mWorld; }
+    const b2World& world() const { return *mWorld; }
     double hz() const { return mHz; }
     int stepCount() const { return mSteps; }
 

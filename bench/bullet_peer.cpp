@@ -5,6 +5,7 @@
 #include <BulletDynamics/MLCPSolvers/btMLCPSolver.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
@@ -141,6 +142,16 @@ std::array<double, 3> BulletPeer::center(int i) const {
 std::array<double, 3> BulletPeer::velocity(int i) const {
     const btVector3 v = mImpl->bodies[std::size_t(i)]->getLinearVelocity();
     return {v.x(), v.y(), v.z()};
+}
+
+double BulletPeer::maxPenetration() const {
+    double deepest = 0.0;
+    const btDispatcher& d = mImpl->dispatcher;
+    for (int m = 0; m < d.getNumManifolds(); ++m) {
+        const btPersistentManifold* manifold = const_cast<btDispatcher&>(d).getManifoldByIndexInternal(m);
+        for (int k = 0; k < manifold->getNumContacts(); ++k) deepest = std::max(deepest, -double(manifold->getContactPoint(k).getDistance()));
+    }
+    return deepest;
 }
 
 int BulletPeer::fallbacks() const {

@@ -33,6 +33,8 @@ public:
     /// Centre of mass of scene body i (m) and its linear velocity (m/s).
     std::array<double, 3> center(int i) const;
     std::array<double, 3> velocity(int i) const;
+    /// Deepest penetration (m, >= 0) among the contact points of the last step's manifolds.
+    double maxPenetration() const;
     /// MLCP solves that fell back to sequential impulses so far (0 for the SI solver).
     int fallbacks() const;
     static const char* solverName(BulletSolver s);

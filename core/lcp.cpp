@@ -661,16 +661,24 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
                 if (c.isColumn && c.var == n) leave = c;
             }
         } else if (tied.size() > 1) {
-            // Second key: the eps coefficient of the perturbed ratio; then the classical lexicographic rows.
-            double best2 = tied[0].ratio2, mag2 = 0.0;
-            for (const Candidate& c : tied) {
-                best2 = startStep ? std::max(best2, c.ratio2) : std::min(best2, c.ratio2);
-                mag2 = std::max(mag2, std::fabs(c.ratio2));
-            }
+            // Second key: the eps coefficient of the perturbed ratio; then the classical lexicographic rows. The eps
+            // coefficients grow along a long degenerate path and can overflow (a 40-row pyramid's 4760-contact
+            // fallback LCP reached inf and NaN after a few hundred pivots): where any is not finite the key says
+            // nothing, and the lexicographic rule decides among all the ties.
+            bool finite2 = true;
+            for (const Candidate& c : tied) finite2 = finite2 && std::isfinite(c.ratio2);
             std::vector<Candidate> tied2;
-            for (const Candidate& c : tied) {
-                if (std::fabs(c.ratio2 - best2) <= 1e-9 * mag2) tied2.push_back(c);
+            if (finite2) {
+                double best2 = tied[0].ratio2, mag2 = 0.0;
+                for (const Candidate& c : tied) {
+                    best2 = startStep ? std::max(best2, c.ratio2) : std::min(best2, c.ratio2);
+                    mag2 = std::max(mag2, std::fabs(c.ratio2));
+                }
+                for (const Candidate& c : tied) {
+                    if (std::fabs(c.ratio2 - best2) <= 1e-9 * mag2) tied2.push_back(c);
+                }
             }
+            if (tied2.empty()) tied2 = tied;
             leave = tied2.size() == 1 ? tied2[0] : tied2[std::size_t(ws.breakTie(tied2, startStep))];
         }
         const double theta = leave.ratio;

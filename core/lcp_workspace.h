@@ -612,7 +612,7 @@ public:
                 rhs[at(k)] = 0.0;
             }
             double best = 0.0, mag = 0.0;
-            bool first = true;
+            bool first = true, finite = true;
             for (std::size_t t : alive) {
                 const Candidate& c = tied[t];
                 double sensitivity;
@@ -623,10 +623,12 @@ public:
                 }
                 // Ratio of the perturbed value: value(eps) / -delta (min test) or -value(eps) / delta (start test).
                 val[t] = -sensitivity / c.delta;
+                finite = finite && std::isfinite(val[t]);
                 mag = std::max(mag, std::fabs(val[t]));
                 if (first || (takeMax ? val[t] > best : val[t] < best)) best = val[t];
                 first = false;
             }
+            if (!finite) break;  // a column that overflowed orders nothing: the lowest index decides
             const double tol = 1e-12 * mag;
             std::vector<std::size_t> keep;
             for (std::size_t t : alive) {

@@ -11,8 +11,9 @@ void WarmStartCache::replace(std::vector<ContactKey>& entries) {
     // Two contacts of one step can share a key (the same feature id reported twice, or a sleeping island copying
     // its hit for each contact). std::sort would leave their order, and so which mask find() returns and whether the
     // state holds both, to the standard library: a stable sort keeps step order among equal keys, and only the
-    // first of them is kept, so the cache is strictly sorted and the same on every platform.
-    std::stable_sort(entries.begin(), entries.end());
+    // first of them is kept, so the cache is strictly sorted and the same on every platform. A restored compact
+    // state hands the entries over in order: checking is O(n), sorting them again is not.
+    if (!std::is_sorted(entries.begin(), entries.end())) std::stable_sort(entries.begin(), entries.end());
     entries.erase(std::unique(entries.begin(), entries.end(),
                               [](const ContactKey& a, const ContactKey& b) { return a.sameKey(b); }),
                   entries.end());

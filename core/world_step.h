@@ -57,11 +57,13 @@ struct StepStats {
     /// principal pivoting (LcpOptions::blockPivotRounds; 0 in 3D).
     int basisChange = 0;
     std::uint64_t work = 0;
-    double maxResidual = 0.0;         ///< largest complementarity residual of any island's answer
+    /// Largest complementarity residual of the answers the step applied (an island whose solves all failed applies
+    /// nothing and is counted in unsolvedIslands instead).
+    double maxResidual = 0.0;
     int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP used)
     int approximateIslands = 0;       ///< answers accepted by the world's acceptResidual
     int unsolvedIslands = 0;          ///< islands that got no impulse at all (both LCPs failed)
-    double maxScaledResidual = 0.0;   ///< largest scaled residual (residual / max(|A|, |b|)) of any island's answer
+    double maxScaledResidual = 0.0;   ///< the same, scaled: residual / max(|A|, |b|)
     double maxPenetration = 0.0;      ///< m, deepest overlap among touching contacts
 };
 
@@ -346,8 +348,10 @@ void WorldStep<D>::solveIsland(H& hooks, const std::vector<int>& bodies, const s
         mStats.pivots += res.pivots;
         mStats.maxIslandPivots = std::max(mStats.maxIslandPivots, res.pivots);
         mStats.work += res.work;
-        mStats.maxResidual = std::max(mStats.maxResidual, res.residual);
-        mStats.maxScaledResidual = std::max(mStats.maxScaledResidual, res.scaledResidual);
+        if (usable(res)) {
+            mStats.maxResidual = std::max(mStats.maxResidual, res.residual);
+            mStats.maxScaledResidual = std::max(mStats.maxScaledResidual, res.scaledResidual);
+        }
         return res;
     };
     const std::vector<ResolverBody<D>> before = split ? rb : std::vector<ResolverBody<D>>{};

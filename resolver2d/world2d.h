@@ -26,6 +26,8 @@
 
 namespace unison {
 
+class CompactState;
+
 enum class BodyType : std::uint8_t { staticBody, kinematicBody, dynamicBody };
 
 /// How to create a body. Angles in radians, velocities in m/s and rad/s.
@@ -166,6 +168,11 @@ public:
     bool restore(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
     /// The canonical state as named fields (same order and values as the hash), for diffs and desync reports.
     std::vector<StateField> stateFields() const;
+    /// Rollback state: only what a tick can change (core/compact_state.h), into `out` (its memory is reused).
+    void saveCompact(CompactState& out) const;
+    /// Restores a saveCompact() of this world while it holds the same bodies; false with *error (world untouched)
+    /// otherwise. The last step's contacts, events and statistics stay those of the last step() call.
+    bool restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
 
 private:
     struct Hooks;  // what core/world_step.h needs of this world (world2d.cpp)

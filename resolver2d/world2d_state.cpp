@@ -13,6 +13,7 @@
 // islands), and the last step's outputs (contact points, events, statistics), which the next step recomputes.
 #include "world2d.h"
 
+#include "compact_state.h"
 #include "state_transfer.h"
 #include "world2d_checks.h"
 
@@ -22,7 +23,8 @@
 namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
-// (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
+// (and to the snapshot format version if old snapshots can no longer be read), and to CompactFields2 if a tick can
+// change it, then update the size here.
 static_assert(sizeof(WorldDef2) == 168, "WorldDef2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
@@ -157,6 +159,50 @@ bool World2::restore(const std::uint8_t* data, std::size_t size, std::string* er
 
 std::vector<StateField> World2::stateFields() const {
     return namedFields([&](FieldSink& sink) { transferState(sink, *this); });
+}
+
+// ---- Compact (rollback) state: core/compact_state.h ---------------------------------------------------------
+
+namespace {
+
+/// The doubles of the 2D world that a tick can change, in the compact state's order.
+struct CompactFields2 {
+    static constexpr int kPose = 6, kVelocity = 3, kGravity = 2;
+    template <class H, class Fn>
+    static void pose(H& s, Fn f) {
+        f(s.position.x);
+        f(s.position.y);
+        f(s.rotation.c);
+        f(s.rotation.s);
+        f(s.center.x);
+        f(s.center.y);
+    }
+    template <class H, class Fn>
+    static void velocity(H& s, Fn f) {
+        f(s.velocity.x);
+        f(s.velocity.y);
+        f(s.angularVelocity);
+    }
+    template <class D, class Fn>
+    static void gravity(D& def, Fn f) {
+        f(def.gravity.x);
+        f(def.gravity.y);
+    }
+};
+
+}  // namespace
+
+void World2::saveCompact(CompactState& out) const {
+    unison::saveCompact<CompactFields2>(out, mStepCount, mDef, mBodies, mStep.cache, mStep.touching);
+}
+
+bool World2::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
+    if (!unison::restoreCompact<CompactFields2>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
+        return false;
+    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
+    // still be out of range, the world says so and does not step on them.
+    mFault = findFault();
+    return true;
 }
 
 }  // namespace unison

@@ -26,6 +26,8 @@
 
 namespace unison {
 
+class CompactState;
+
 /// Body kinds of the 3D world (static: never moves; kinematic: moves with its velocity, infinite mass).
 enum class BodyType3 : std::uint8_t { staticBody, kinematicBody, dynamicBody };
 
@@ -187,6 +189,11 @@ public:
     bool restore(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
     /// Every state field with its name and body (for snapshot diffs and desync reports).
     std::vector<StateField> stateFields() const;
+    /// Rollback state: only what a tick can change (core/compact_state.h), into `out` (its memory is reused).
+    void saveCompact(CompactState& out) const;
+    /// Restores a saveCompact() of this world while it holds the same bodies; false with *error (world untouched)
+    /// otherwise. The last step's contacts, events and statistics stay those of the last step() call.
+    bool restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
 
 private:
     struct Hooks;  // what core/world_step.h needs of this world (world3d.cpp)

@@ -13,6 +13,7 @@
 // between steps), the captureCandidates() switch, and the last step's outputs (contacts, events, statistics).
 #include "world3d.h"
 
+#include "compact_state.h"
 #include "state_transfer.h"
 #include "world3d_checks.h"
 
@@ -21,7 +22,8 @@
 namespace unison {
 
 // If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
-// (and to the snapshot format version if old snapshots can no longer be read), then update the size here.
+// (and to the snapshot format version if old snapshots can no longer be read), and to CompactFields3 if a tick can
+// change it, then update the size here.
 static_assert(sizeof(WorldDef3) == 184, "WorldDef3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
 static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
@@ -271,6 +273,54 @@ bool World3::restore(const std::uint8_t* data, std::size_t size, std::string* er
 
 std::vector<StateField> World3::stateFields() const {
     return namedFields([&](FieldSink& sink) { transferState(sink, *this); });
+}
+
+// ---- Compact (rollback) state: core/compact_state.h ---------------------------------------------------------
+
+namespace {
+
+/// The doubles of the 3D world that a tick can change, in the compact state's order.
+struct CompactFields3 {
+    static constexpr int kPose = 10, kVelocity = 6, kGravity = 3;
+    template <class V, class Fn>
+    static void vec(V& v, Fn& f) {
+        f(v.x());
+        f(v.y());
+        f(v.z());
+    }
+    template <class H, class Fn>
+    static void pose(H& s, Fn f) {
+        vec(s.position, f);
+        f(s.rotation.w);
+        f(s.rotation.x);
+        f(s.rotation.y);
+        f(s.rotation.z);
+        vec(s.center, f);
+    }
+    template <class H, class Fn>
+    static void velocity(H& s, Fn f) {
+        vec(s.velocity, f);
+        vec(s.angularVelocity, f);
+    }
+    template <class D, class Fn>
+    static void gravity(D& def, Fn f) {
+        vec(def.gravity, f);
+    }
+};
+
+}  // namespace
+
+void World3::saveCompact(CompactState& out) const {
+    unison::saveCompact<CompactFields3>(out, mStepCount, mDef, mBodies, mStep.cache, mStep.touching);
+}
+
+bool World3::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
+    if (!unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
+        return false;
+    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
+    // still be out of range, the world says so and does not step on them.
+    mFault = findFault();
+    return true;
 }
 
 }  // namespace unison

@@ -1,6 +1,7 @@
 // samples/cli_replay.cpp — `unison record`, `unison verify` and `unison diff` (README "Snapshots, recordings and
 // replay"): thin wrappers that read files, call replay/, print JSON and choose the exit code.
 #include "cli.h"
+#include "desync_report.h"
 #include "recording.h"
 #include "snapshot_file.h"
 
@@ -10,6 +11,7 @@ namespace unison::cli {
 
 namespace {
 constexpr std::size_t kReportedDifferences = 50;  // a report lists at most this many fields (the count is exact)
+constexpr std::size_t kFileDifferences = 1000;     // ... and a report file this many
 
 replay::InputScript readInputs(const std::string& file, const nlohmann::json& scene) {
     const int dimension = replay::sceneDimension(scene);
@@ -37,11 +39,12 @@ int recordCommand(const std::string& sceneFile, const std::string& inputsFile, i
 }
 
 int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, bool keepGoing, std::ostream& out,
-                  std::ostream& err) {
+                  std::ostream& err, const std::string& reportFile) {
     replay::Recording rec = replay::parseRecording(replay::readBinaryFile(recordingFile), recordingFile);
     if (!inputsFile.empty()) rec.inputs = readInputs(inputsFile, rec.scene);
     const replay::VerifyReport report = replay::verify(rec, keepGoing);
     out << replay::reportToJson(report, kReportedDifferences).dump() << "\n";
+    if (!reportFile.empty()) replay::writeJsonFile(reportFile, replay::reportToJson(report, kFileDifferences));
     if (report.match) return 0;
     err << replay::reportSummary(report) << "\n";
     return 1;

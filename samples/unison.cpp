@@ -49,11 +49,18 @@ int main(int argc, char** argv) {
     std::string verifyFile;
     auto* verify = app.add_subcommand("verify", "replay a recording; exit 0 if every tick's hash matches");
     verify->add_option("RECORDING", verifyFile, "recording file (.urec)")->required();
-    std::string verifyInputs;
+    std::string verifyInputs, verifyReport;
     verify->add_option("--inputs", verifyInputs, "replay with these inputs instead of the recorded ones");
     bool keepGoing = false;
     verify->add_flag("--keep-going", keepGoing,
                      "after the first mismatch, replay on to the next recorded snapshot to list the differing fields");
+    verify->add_option("--report", verifyReport, "also write the report (JSON) to this file");
+
+    std::string viewFile, viewOut, viewReport;
+    auto* view = app.add_subcommand("view", "write a self-contained HTML page that plays a recording");
+    view->add_option("RECORDING", viewFile, "recording file (.urec)")->required();
+    view->add_option("-o,--output", viewOut, "page to write (.html)")->required();
+    view->add_option("--report", viewReport, "desync report (JSON) to mark on the timeline");
 
     std::string diffA, diffB;
     auto* diff = app.add_subcommand("diff", "list the fields that differ between two snapshot files");
@@ -78,7 +85,8 @@ int main(int argc, char** argv) {
                             RunSnapshot{snapshotAt, snapshotOut});
         }
         if (*record) return recordCommand(sceneFile, inputsFile, recordSteps, snapshotEvery, recordOut, std::cout);
-        if (*verify) return verifyCommand(verifyFile, verifyInputs, keepGoing, std::cout, std::cerr);
+        if (*verify) return verifyCommand(verifyFile, verifyInputs, keepGoing, std::cout, std::cerr, verifyReport);
+        if (*view) return viewCommand(viewFile, viewOut, viewReport, std::cout);
         if (*diff) return diffCommand(diffA, diffB, std::cout);
         CommandOutput out;
         if (*lcp) {

@@ -1,7 +1,9 @@
 // scenes/make_scenes2d.h — generators of the shared 2D scenes, returned as scene JSON (README "Scene format").
 //
 // Owns: the layouts that tests, benchmarks and samples all run (the Box2D 2.4.1 testbed pyramid, many separate
-// pyramids, a grid of falling circles in a container, a box stack, a restitution row, a box on a ramp). Returning
+// pyramids, a grid of falling circles in a container, a box stack, a restitution row, a box on a ramp), and the
+// layouts of Box2D v3's public benchmarks and stacking samples (large pyramid, many pyramids, card house, arch,
+// vertical stack, double domino), rebuilt from their published positions and sizes. Returning
 // JSON rather than a World2 lets the same scene be loaded by scenes::loadScene2 and by the Box2D peer of bench/,
 // and written to a file for `unison run`.
 //
@@ -58,5 +60,58 @@ nlohmann::json restitutionRowScene(bool sleep = true);
 /// gets friction mu^2 and sqrt(mu^2 * 1) = mu (exactly, for a correctly rounded square root). In the Coulomb
 /// model the box stays put when tan(angleRad) <= mu and slides otherwise.
 nlohmann::json rampScene(double angleRad, double mu, bool sleep = true);
+
+// ---- Box2D v3's benchmark and stacking-sample layouts ---------------------------------------------------------
+// Box2D v3 defaults where its layout does not say otherwise: density 1, friction 0.6, restitution 0. Its rounded
+// boxes become plain boxes of the same outer size (Unison has no rounded polygons). Sleep is the `sleep` argument
+// (Box2D v3's benchmarks run with sleep off).
+
+/// Box2D v3's "large pyramid" benchmark: a static box ground (half extents (100, 1), centre (0, -1), top at y = 0)
+/// and `baseCount` rows of 1 m boxes (half size 0.5) touching side by side and stacked with no gap: row i (from
+/// 0 at the bottom) holds baseCount - i boxes with centres y = i + 0.5 and x = (i + 1) / 2 + (j - i) -
+/// baseCount / 2 for j = i .. baseCount - 1. Every coordinate is a multiple of 0.5 (exact). Bodies: ground, then
+/// row by row bottom-up, left to right; the last body is the top box, centred at (0, baseCount - 0.5).
+/// 40 rows: 820 boxes; 100 rows: 5050 boxes.
+nlohmann::json largePyramidScene(int baseCount, bool sleep = false);
+
+/// Box2D v3's "many pyramids" benchmark: `rowCount` x `columnCount` pyramids of base `baseCount` (1 m boxes as in
+/// largePyramidScene), each row of pyramids on its own ground segment, g = baseCount + 1 m above the previous one:
+/// segments at y = g r (r = 0 .. rowCount - 1) from x = -W/2 to W/2 with W = g columnCount, all shapes of one
+/// static body. Pyramid (r, c) has its first box centred at x = -W/2 + g c + 1, y = g r + 0.5 (boxes touching, no
+/// gaps). Bodies: ground, then pyramids row by row (bottom segment first), left to right, each bottom-up; the last
+/// body is the top box of the last pyramid. 5 x 5 of base 10: 1375 boxes; 20 x 20: 22000.
+nlohmann::json pyramidGridScene(int rowCount, int columnCount, int baseCount = 10, bool sleep = false);
+
+/// Box2D v3's "card house" sample: a static box ground (half extents (40, 2), centre (0, -2)), and `levels` levels
+/// of cards 0.4 m long and 2 mm thick (half extents (0.001, 0.2), density 1, friction 0.7 as the ground): level L
+/// (0 at the bottom) has Nb = levels - L pairs of cards leaning on each other at -25 and +25 degrees (centres at
+/// y_L = 0.18 + 0.37 L, x = z and z + 0.175, z = 0.175 (L + 2 i)), and a flat card (turned 90 degrees, centre
+/// (z + 0.25, y_L + 0.185)) on each pair but the last. As in the sample, a pair's tops start 6 mm apart and a flat
+/// card 2 mm above the tops it rests on, the bottom cards reach 1.7 mm into the ground, and the flat cards of a
+/// level (0.4 m long, 0.35 m apart) overlap their neighbours by 5 cm through their 2 mm thickness.
+/// Bodies: ground, then level by level, for each pair: flat card (when there is one), left card, right card; the
+/// last body is the right card of the top pair. 5 levels: 40 cards.
+nlohmann::json cardHouseScene(int levels = 5, bool sleep = true);
+
+/// Box2D v3's "arch" sample (scaled by 0.25 as in the sample): a ground segment (-100, 0)-(100, 0), 8 quadrilateral
+/// stones up each side and a keystone (convex polygons given in world coordinates, body origins at 0), friction 0.6,
+/// all touching their neighbours exactly, and 4 boxes of half extents (2, 0.5) stacked on the keystone (no gaps).
+/// Bodies: ground, the 8 right stones bottom-up, the 8 left stones bottom-up, the keystone, then the boxes
+/// bottom-up; the last body is the top box. 21 dynamic bodies.
+nlohmann::json archScene(bool sleep = true);
+
+/// Box2D v3's "vertical stack" sample: a static ground body with a segment (-30, 0)-(30, 0) and a wall (10, 0)-(10,
+/// 20); `columns` columns (x = 8 - 3 c) of `rows` 1 m boxes (Box2D's rounded 0.45 + 0.05 box; here a plain box of
+/// half size 0.5) of friction 0.3, stacked with no gap (centres y = 0.5 + i), each box shifted by -0.01 (even i) or
+/// +0.01 m (odd i) in x. Bodies: ground, then column by column, bottom-up; the last body is the top box of the last
+/// column.
+nlohmann::json verticalStackScene(int rows = 12, int columns = 1, bool sleep = true);
+
+/// Box2D v3's "double domino" sample: a static box ground (half extents (100, 1), centre (0, -1)) and `count`
+/// dominoes of half extents (0.125, 0.5) (mass 0.25 kg) standing 1 m apart from x = -count / 2, centre y = 0.5. The
+/// first domino starts with the velocity of the sample's impulse (0.2, 0) N s at the point (x0, 1) (0.5 m above its
+/// centre): v = (0.8, 0) m/s and w = -0.1 / I rad/s, I = m (0.25^2 + 1^2) / 12. Bodies: ground, then the dominoes
+/// left to right.
+nlohmann::json doubleDominoScene(int count = 15, bool sleep = true);
 
 }  // namespace unison::scenes

@@ -47,6 +47,20 @@ json rampBody(double x, double y, double angle, double hx, double hy, double hz,
                 {"shapes", {boxShape(hx, hy, hz, friction)}}};
 }
 
+// The pen of the box piles: 4 static walls (boxes 0.2 m thick, 4 m high, friction 0.6) around a 3.6 m square
+// centred on the origin, all shapes of one static body.
+json penBody() {
+    const double half = 1.8, wall = 0.1, height = 2.0;
+    json pen = {{"type", "static"}, {"shapes", json::array()}};
+    for (int side = 0; side < 4; ++side) {
+        const double sgn = side % 2 == 0 ? -1.0 : 1.0;
+        json wallShape = side < 2 ? boxShape(wall, height, half + 2.0 * wall, 0.6) : boxShape(half, height, wall, 0.6);
+        wallShape["center"] = side < 2 ? json{sgn * (half + wall), height, 0.0} : json{0.0, height, sgn * (half + wall)};
+        pen["shapes"].push_back(wallShape);
+    }
+    return pen;
+}
+
 }  // namespace
 
 json boxStack3Scene(int count, bool sleep) {
@@ -59,15 +73,7 @@ json boxStack3Scene(int count, bool sleep) {
 json boxPile3Scene(int count, bool tumble, bool sleep) {
     json scene = sceneHeader(sleep);
     scene["bodies"].push_back(groundBody());
-    const double half = 1.8, wall = 0.1, height = 2.0;
-    json pen = {{"type", "static"}, {"shapes", json::array()}};
-    for (int side = 0; side < 4; ++side) {
-        const double sgn = side % 2 == 0 ? -1.0 : 1.0;
-        json wallShape = side < 2 ? boxShape(wall, height, half + 2.0 * wall, 0.6) : boxShape(half, height, wall, 0.6);
-        wallShape["center"] = side < 2 ? json{sgn * (half + wall), height, 0.0} : json{0.0, height, sgn * (half + wall)};
-        pen["shapes"].push_back(wallShape);
-    }
-    scene["bodies"].push_back(pen);
+    scene["bodies"].push_back(penBody());
     for (int i = 0; i < count; ++i) {
         const int layer = i / 25, ix = i % 5, iz = (i / 5) % 5;
         const double shift = layer % 2 == 1 ? 0.1 : 0.0;
@@ -80,6 +86,25 @@ json boxPile3Scene(int count, bool tumble, bool sleep) {
         const double qw = spin[0], qy = spin[2], tw = tilt[0], tx = tilt[1];
         const json q = {qw * tw, qw * tx, qy * tw, -qy * tx};  // spin * tilt
         scene["bodies"].push_back(dynamicBody(-1.3 + 0.65 * ix + shift, 0.4 + 0.75 * layer, -1.3 + 0.65 * iz + shift,
+                                              boxShape(0.25, 0.25, 0.25, 0.6), q));
+    }
+    return scene;
+}
+
+json dropHeap3Scene(int count, bool sleep) {
+    json scene = sceneHeader(sleep);
+    scene["bodies"].push_back(groundBody());
+    scene["bodies"].push_back(penBody());
+    const double tilt = 0.3;
+    double st = 0.0, ct = 1.0;
+    dmath::sincos(0.5 * tilt, &st, &ct);
+    for (int i = 0; i < count; ++i) {
+        const int layer = i / 25, ix = i % 5, iz = (i / 5) % 5;
+        const double shift = layer % 2 == 1 ? 0.1 : 0.0;
+        double sa = 0.0, ca = 1.0;
+        dmath::sincos(0.7 + 1.1 * i, &sa, &ca);
+        const json q = {ct, st * ca, 0.0, st * sa};  // 0.3 rad about (cos a, 0, sin a)
+        scene["bodies"].push_back(dynamicBody(-1.3 + 0.65 * ix + shift, 0.4 + 2.0 * layer, -1.3 + 0.65 * iz + shift,
                                               boxShape(0.25, 0.25, 0.25, 0.6), q));
     }
     return scene;

@@ -29,6 +29,15 @@ nlohmann::json boxStack3Scene(int count, bool sleep = true);
 /// by layer (x fastest, then z).
 nlohmann::json boxPile3Scene(int count, bool tumble, bool sleep = true);
 
+/// `count` cubes of 0.5 m (density 1, friction 0.6) dropped from several metres into the pen of boxPile3Scene, each
+/// tilted so that it lands on a corner (or, for a few, near an edge): layers of 5 x 5 cubes 0.65 m apart in x and z
+/// from -1.3 (odd layers shifted by 0.1 m in x and z), layer L centred at y = 0.4 + 2 L (4 layers: up to 6.4 m);
+/// cube i is turned by 0.3 rad about the horizontal axis (cos a_i, 0, sin a_i), a_i = 0.7 + 1.1 i rad. No yaw, so a
+/// cube reaches at most 0.313 m from its centre in x and z (0.343 m in y) and nothing overlaps at the start. The
+/// cubes form one heap (one island) once they have landed. Bodies: ground, pen, then the cubes layer by layer
+/// (x fastest, then z).
+nlohmann::json dropHeap3Scene(int count, bool sleep = true);
+
 /// 5 spheres of radius 0.5 (density 1, friction 0.6) at x = -4, -2, ..., 4, bottom 4 m above the ground
 /// (centre y = 4.5), with restitution e = k/4 for k = 0..4 (the ground has 0; mixing takes the max);
 /// "restitution_threshold": 0.

@@ -6,7 +6,10 @@
 # scripts/sanitize.sh and scripts/fuzz.sh)
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
-          libsiconos-numerics-dev libbullet-dev pkg-config)
+          libsiconos-numerics-dev libbullet-dev pkg-config libenet-dev zlib1g-dev chromium)
+# Node and npm drive the browser tests (scripts/browser_test.sh); a machine may already have them from elsewhere.
+command -v node >/dev/null || packages+=(nodejs)
+command -v npm >/dev/null || packages+=(npm)
 if [ "${1:-}" = "--determinism" ]; then
   packages+=(clang g++-aarch64-linux-gnu qemu-user)
 fi

@@ -1,29 +1,18 @@
-// tests/cli_runner.h — runs the `unison` tool as a real process on files in a temporary folder, for the suites that
-// test its contract (test_cli.cpp, test_hostile_inputs.cpp).
+// tests/cli_runner.h — the `unison` tool as a real process on files in a temporary folder, for the suites that test
+// its contract (test_cli.cpp, test_hostile_inputs.cpp); built on tests/process_run.h.
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include "process_run.h"
 
-#include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace cli_runner {
 
-struct Run {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
+using Run = unison::test::ProcessRun;
 
-inline std::string tempPath(const std::string& name) {
-    const char* dir = std::getenv("TMPDIR");
-    return std::string(dir ? dir : "/tmp") + "/unison_test_cli_" + std::to_string(::getpid()) + "_" + name;
-}
+inline std::string tempPath(const std::string& name) { return unison::test::tempFile("unison_test_cli", name); }
 
 inline std::string writeTemp(const std::string& name, const std::string& text) {
     const std::string path = tempPath(name);
@@ -31,32 +20,13 @@ inline std::string writeTemp(const std::string& name, const std::string& text) {
     return path;
 }
 
-inline std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+inline std::string slurp(const std::string& path) { return unison::test::readWhole(path); }
 
-// Every line of `out` parsed as JSON.
-inline std::vector<nlohmann::json> jsonLines(const std::string& out) {
-    std::vector<nlohmann::json> lines;
-    std::size_t start = 0;
-    for (std::size_t end; (end = out.find('\n', start)) != std::string::npos; start = end + 1)
-        lines.push_back(nlohmann::json::parse(out.substr(start, end - start)));
-    return lines;
-}
+/// Every JSON object line of `out`.
+inline std::vector<nlohmann::json> jsonLines(const std::string& out) { return Run{0, out, ""}.jsonLines(); }
 
-inline Run unison(const std::string& args) {
-    const std::string out = tempPath("stdout"), err = tempPath("stderr");
-    const std::string cmd = std::string(UNISON_CLI_PATH) + " " + args + " >" + out + " 2>" + err;
-    const int status = std::system(cmd.c_str());
-    Run r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    std::remove(out.c_str());
-    std::remove(err.c_str());
-    return r;
-}
+/// Runs `unison ARGS` (the name `unison` is the project's namespace).
+inline Run cli(const std::string& args) { return unison::test::runProgram(UNISON_CLI_PATH, args); }
 
 }  // namespace cli_runner
 

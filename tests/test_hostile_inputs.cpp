@@ -21,8 +21,6 @@ using namespace unison;
 
 namespace {
 
-/// Runs the tool (the name `unison` is the namespace here).
-Run cli(const std::string& args) { return cli_runner::unison(args); }
 
 struct Case {
     const char* text;      // file contents

@@ -8,6 +8,9 @@
 #include <limits>
 #include <cstdint>
 #include <cstring>
+#include <string>
+
+#include <zlib.h>
 
 using namespace unison;
 
@@ -52,6 +55,38 @@ void checkSolution(const Lcp& p, const LcpResult& r) {
         CHECK(std::fabs(std::min(r.z[std::size_t(i)], w)) <= 1e-12);
     }
     CHECK(r.scaledResidual <= 1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+// tests/data/pyramid40_fallback_lcp.bin.gz: the frictionless LCP (4760 contacts) of a 40-row pyramid laid out
+// like Box2D v3's large-pyramid benchmark (scenes::largePyramidScene(40)) in its step 198, where its friction LCP
+// had failed. Little-endian: int32 n, int32 nnz, int32 rowStart[n + 1], int32 cols[nnz], float64 vals[nnz],
+// float64 b[n], float64 maxAbs.
+SparseLcp loadPyramid40Fallback() {
+    const std::string path = std::string(UNISON_SOURCE_DIR) + "/tests/data/pyramid40_fallback_lcp.bin.gz";
+    gzFile f = gzopen(path.c_str(), "rb");
+    REQUIRE(f != nullptr);
+    auto readAll = [&](void* dst, std::size_t bytes) {
+        REQUIRE(gzread(f, dst, unsigned(bytes)) == int(bytes));
+    };
+    SparseLcp p;
+    int nnz = 0;
+    readAll(&p.n, 4);
+    readAll(&nnz, 4);
+    p.rowStart.resize(std::size_t(p.n) + 1);
+    p.cols.resize(std::size_t(nnz));
+    p.vals.resize(std::size_t(nnz));
+    p.b.resize(std::size_t(p.n));
+    readAll(p.rowStart.data(), 4 * p.rowStart.size());
+    readAll(p.cols.data(), 4 * p.cols.size());
+    readAll(p.vals.data(), 8 * p.vals.size());
+    readAll(p.b.data(), 8 * p.b.size());
+    readAll(&p.maxAbs, 8);
+    gzclose(f);
+    return p;
 }
 
 }  // namespace
@@ -263,6 +298,33 @@ TEST_CASE("status names are stable") {
     CHECK(std::string(statusName(LcpStatus::pivot_limit)) == "pivot_limit");
     CHECK(std::string(statusName(LcpStatus::invalid_input)) == "invalid_input");
     CHECK(std::string(statusName(LcpStatus::numerical_failure)) == "numerical_failure");
+}
+
+
+TEST_CASE("a degenerate path whose tie-breaking coefficients overflow ends with an explicit outcome") {
+    // The eps coefficients of the perturbed values grew to inf and NaN along this LCP's pivot path; the tie rule then
+    // kept no candidate and Lemke read past an empty list (a crash in every build). Now the lexicographic rule
+    // decides such ties, and the solve ends with an answer the world can judge.
+    SparseLcp p = loadPyramid40Fallback();
+    REQUIRE(p.n == 4760);
+    LcpOptions o;
+    o.maxPivots = 10 * p.n + 1000;  // the world's frictionless fallback cap
+    o.warmCovering = LcpOptions::WarmCovering::violated;
+    LemkeSolver solver;
+    const LcpResult r = solver.solve(SparseLcp(p), o);
+    CHECK(r.status != LcpStatus::invalid_input);
+    CHECK(r.pivots > 0);
+    if (r.status == LcpStatus::solved || r.status == LcpStatus::numerical_failure) {
+        CHECK(r.scaledResidual <= 1e-6);  // what the worlds accept (WorldDef2::acceptResidual)
+        double zMin = 0.0;
+        for (double z : r.z) zMin = std::min(zMin, z);
+        CHECK(zMin >= -r.residual);  // the residual covers negative impulses too: |min(z_i, w_i)|
+    }
+    // Deterministic: the same bits again.
+    const LcpResult again = LemkeSolver().solve(std::move(p), o);
+    CHECK(again.status == r.status);
+    CHECK(again.pivots == r.pivots);
+    CHECK(std::memcmp(again.z.data(), r.z.data(), r.z.size() * sizeof(double)) == 0);
 }
 
 }  // TEST_SUITE

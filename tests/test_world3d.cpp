@@ -352,6 +352,23 @@ TEST_CASE("step statistics: how far the active set moved (basisChange) and stale
         CHECK(failedSteps > 0);
     }
 
+    // The residuals in the statistics are those of answers the step applied: with one pivot per LCP neither the
+    // friction LCP nor its frictionless fallback of a cube landing on four corners can finish, the island gets no
+    // impulse, and the failed solves' residuals (1e17 and more on resting piles) are not reported as if applied.
+    {
+        WorldDef3 capped;
+        capped.enableSleep = false;
+        capped.lcp.maxPivots = 1;
+        World3 w(capped);
+        addStatic(w, groundPlane());
+        addDynamic(w, boxShape(Vec3(0.5, 0.5, 0.5)), Vec3(0, 0.49, 0), Vec3(0, -1, 0));
+        w.step();
+        const StepStats3& c = w.stats();
+        CHECK(c.unsolvedIslands == 1);
+        CHECK(c.maxResidual == 0.0);
+        CHECK(c.maxScaledResidual == 0.0);
+    }
+
     // A tumbling heap of 16 cubes: the bound holds on every step that kept its guess, and the heap's active set
     // does move.
     scenes::LoadedScene3 heap = scenes::loadScene3(scenes::boxPile3Scene(16, true, false), "heap");
