@@ -7,11 +7,13 @@
 
 #include <doctest/doctest.h>
 
+#include "compact_state.h"
 #include "recording.h"
 #include "scene_json.h"
 #include "snapshot_file.h"
 #include "state_io.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -400,6 +402,31 @@ TEST_CASE("a step that overflows stops the world with a message naming the body 
     const std::vector<std::uint8_t> snap = ok.snapshot();
     REQUIRE(w.restore(snap.data(), snap.size()));
     CHECK(w.fault().empty());  // a restored state is finite again
+}
+
+TEST_CASE("a compact rollback state that holds an out-of-range value faults instead of being stepped") {
+    World2 w;
+    std::vector<Shape2> circle(1);
+    REQUIRE(makeCircle({0.0, 0.0}, 0.5, &circle[0].circle).empty());
+    REQUIRE_FALSE(w.createBody(BodyDef2{BodyType::dynamicBody, {0.0, 0.8125}, 0.0, {}, 0.0}, circle).isNull());
+    CompactState saved;
+    w.saveCompact(saved);
+    std::vector<std::uint8_t> bytes(saved.data(), saved.data() + saved.size());
+    ByteWriter from, to;
+    from.f64(0.8125);
+    to.f64(1e300);
+    const auto at = std::search(bytes.begin(), bytes.end() - 8, from.data().begin(), from.data().end());
+    REQUIRE(at != bytes.end() - 8);
+    std::copy(to.data().begin(), to.data().end(), at);
+    const std::uint64_t sum = hash64(bytes.data(), bytes.size() - 8);
+    putU64(bytes, bytes.size() - 8, sum);  // the checksum of a compact state is its only check
+    REQUIRE(w.restoreCompact(bytes.data(), bytes.size()));
+    CHECK(w.fault().find("position outside the supported range") != std::string::npos);
+    const std::uint64_t steps = w.stepCount();
+    w.step();
+    CHECK(w.stepCount() == steps);
+    REQUIRE(w.restoreCompact(saved.data(), saved.size()));  // the saved state is fine again
+    CHECK(w.fault().empty());
 }
 
 }  // TEST_SUITE
