@@ -56,7 +56,8 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
         info.invMass = 1.0 / mass;
         info.localCenter = D3::scale(1.0 / mass, moment);
         info.inertia = inertiaOrigin - shift(mass, info.localCenter);
-        if (!(info.inertia.determinant() > 0.0)) return fail("body: inertia tensor must be positive definite");
+        const std::string inertia = checkInertia3(info.inertia);  // the check restore() makes
+        if (!inertia.empty()) return fail(inertia);
         info.invInertia = info.inertia.inverse();
     }
     BodyState3 state;

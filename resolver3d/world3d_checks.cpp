@@ -98,6 +98,16 @@ std::string checkBodyDef3(const BodyDef3& def, const std::vector<Shape3>& shapes
     return {};
 }
 
+std::string checkInertia3(const Mat3& I) {
+    // A positive determinant alone also passes a tensor with two negative eigenvalues (a self-intersecting mesh
+    // whose signed volume is still positive); a Cholesky factorisation only succeeds for positive definite ones.
+    const double big = I.cwiseAbs().maxCoeff();
+    if (!I.allFinite() || !((I - I.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * big) ||
+        Eigen::LLT<Mat3>(I).info() != Eigen::Success || !(I.determinant() > 0.0))
+        return "body: inertia tensor must be symmetric positive definite";
+    return {};
+}
+
 std::string checkMotion3(const BodyState3& s) {
     if (!within(s.position, policy::kMaxStateCoordinate) || !within(s.center, policy::kMaxStateCoordinate))
         return "position outside the supported range (|x| <= 1e9 m)";
@@ -116,10 +126,8 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
     if (info.type == BodyType3::dynamicBody) {
         if (!(info.mass > 0.0) || info.invMass != 1.0 / info.mass) return "body: dynamic mass must be > 0 with invMass = 1/mass";
         const Mat3& I = info.inertia;
-        const double big = I.cwiseAbs().maxCoeff();
-        if (!((I - I.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * big) || Eigen::LLT<Mat3>(I).info() != Eigen::Success ||
-            !(I.determinant() > 0.0))
-            return "body: inertia must be symmetric positive definite";
+        const std::string inertia = checkInertia3(I);
+        if (!inertia.empty()) return inertia;
         const Mat3 product = I * info.invInertia;
         if (!((product - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-6)) return "body: invInertia is not the inverse of inertia";
     } else if (info.mass != 0.0 || info.invMass != 0.0 || !info.inertia.isZero(0.0) || !info.invInertia.isZero(0.0)) {

@@ -19,6 +19,8 @@ namespace unison {
 std::string checkShape3(const Shape3& shape);
 /// Why a new body breaks the policy (position, orientation, velocities, shape count, each shape), or empty.
 std::string checkBodyDef3(const BodyDef3& def, const std::vector<Shape3>& shapes);
+/// Why an inertia tensor (kg m^2) is not symmetric positive definite, or empty.
+std::string checkInertia3(const Mat3& inertia);
 /// Why a body's motion is outside the state range of core/input_policy.h (not finite, |position| > 1e9 m,
 /// |velocity| > 1e9), or empty: the check after every step and on restore.
 std::string checkMotion3(const BodyState3& state);

@@ -20,7 +20,9 @@ if [ "${1:-}" = "--runs" ]; then limit=(-runs="$2"); shift 2; fi
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(scene2d scene3d lcp resolve inputs recording snapshot obj)
 
-scripts/sanitize.sh --build-only  # up to date after scripts/sanitize.sh: nothing to do
+# Up to date after scripts/sanitize.sh (nothing to do); the build's output goes to a log unless it fails.
+mkdir -p build-asan
+scripts/sanitize.sh --build-only >build-asan/fuzz-build.log 2>&1 || { cat build-asan/fuzz-build.log; exit 2; }
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 
