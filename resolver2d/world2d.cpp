@@ -58,6 +58,9 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
         info.invMass = 1.0 / mass;
         info.localCenter = (1.0 / mass) * moment;
         info.inertia = inertiaOrigin - mass * dot(info.localCenter, info.localCenter);
+        // Shapes far from the body origin lose the inertia about their centre in this difference: refuse rather than
+        // keep a negative inertia that restore() (rightly) refuses.
+        if (!(info.inertia >= 0.0)) return fail("body: inertia lost to rounding (move the body origin to its shapes)");
         info.invInertia = info.inertia > 0.0 ? 1.0 / info.inertia : 0.0;
     }
     BodyState2 state;
