@@ -148,6 +148,25 @@ TEST_CASE("files over the size limit are refused before they are parsed; /dev/ze
     CHECK(cli("verify /dev/zero").exitCode == 2);
 }
 
+TEST_CASE("a scene at the edges of every range runs, and run --snapshot-at writes a snapshot its own diff reads") {
+    // Velocities, gravity and the step length at their limits (the inputs that once made run print null and write a
+    // snapshot diff refused): now either a clean run or a clean fault, never a non-finite number.
+    const std::string scene = writeTemp("edge.json",
+        "{\"dimension\": 2, \"hz\": 1, \"gravity\": [10000, -10000], \"bodies\": ["
+        "{\"type\": \"static\", \"shapes\": [{\"type\": \"segment\", \"points\": [[-1000000, 0], [1000000, 0]]}]},"
+        "{\"position\": [0, 1000], \"linear_velocity\": [10000, -10000], \"angular_velocity\": 10000,"
+        " \"shapes\": [{\"type\": \"circle\", \"radius\": 0.0001, \"density\": 1000000}]}]}");
+    const std::string snap = tempPath("edge.usnap");
+    const Run r = cli("run " + scene + " --steps 30 --snapshot-at 30 -o " + snap);
+    CAPTURE(r.err);
+    CHECK((r.exitCode == 0 || r.exitCode == 2));
+    CHECK(r.out.find("null") == std::string::npos);
+    if (r.exitCode == 0) CHECK(cli("diff " + snap + " " + snap).exitCode == 0);
+    if (r.exitCode == 2) CHECK(r.err.find("supported range") != std::string::npos);
+    std::remove(scene.c_str());
+    std::remove(snap.c_str());
+}
+
 TEST_CASE("malformed JSON is named by line and column, never quoted") {
     expectRefused("run", {{"{\"dimension\": 2,\n \"bodies\": [SECRET]}", "line 2"},
                           {"{\"dimension\": 2, \"bodies\": [], \"bodies\": []}", "bodies: duplicate key"}});
