@@ -34,6 +34,7 @@
 #include "state_io.h"
 #include "step_support.h"
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -323,6 +324,8 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
     const std::uint64_t stepCount = r.varint();
     double gravity[F::kGravity];
     for (double& g : gravity) g = r.f64();
+    for (double g : gravity)
+        if (!std::isfinite(g)) r.fail("compact state: the gravity is not finite");
     const std::uint64_t stepBudget = r.varint();
     // The bodies must be the ones the state was saved with.
     const auto& slots = ioStore.slots();
@@ -350,7 +353,14 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
         const std::uint8_t flags = r.u8();
         if (flags > (kAwake | kMoving | kSleeping)) r.fail("compact state: bad body flags");
         const int count = F::kPose + ((flags & kMoving) ? F::kVelocity : 0) + ((flags & kSleeping) ? 1 : 0);
-        if (r.need(8 * std::size_t(count))) r.skipU(8 * std::size_t(count));
+        if (r.need(8 * std::size_t(count))) {
+            for (int i = 0; i < count; ++i) {
+                if (!std::isfinite(r.f64U())) {
+                    r.fail("compact state: a body's pose, velocity or sleep time is not finite");
+                    break;
+                }
+            }
+        }
     }
     // Decoded into buffers kept between calls (after the swaps below they hold the world's previous arrays).
     static thread_local std::vector<ContactKey> entries;
@@ -379,6 +389,11 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
         if (nonzero > 15) r.fail("compact state: bad impulse flags");
         double* impulses[4] = {&e.normalImpulse, &e.tangentImpulse[0], &e.tangentImpulse[1], &e.tangentImpulse[2]};
         for (int k = 0; k < 4; ++k) *impulses[k] = (nonzero & (1u << k)) ? r.f64() : 0.0;
+        if (!(std::isfinite(e.normalImpulse) && std::isfinite(e.tangentImpulse[0]) &&
+              std::isfinite(e.tangentImpulse[1]) && std::isfinite(e.tangentImpulse[2])))
+            r.fail("compact state: a cached impulse is not finite");
+        if (e.slotA == 0 || e.slotB == 0 || e.slotA > slots.size() || e.slotB > slots.size() || e.slotA == e.slotB)
+            r.fail("compact state: a cache entry names no pair of body slots");
         prevA = e.slotA;
         prevB = e.slotB;
     }

@@ -4,6 +4,7 @@
 #include <xxhash.h>
 
 #include <cfloat>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <tuple>
@@ -86,6 +87,16 @@ std::string StateField::text() const {
 std::string describeBody(BodyId id) {
     if (id.isNull()) return "world";
     return "body " + std::to_string(id.index1) + ":" + std::to_string(id.generation);
+}
+
+std::string firstNonFinite(const std::vector<StateField>& fields) {
+    for (const StateField& f : fields) {
+        if (!f.real) continue;
+        double v;
+        std::memcpy(&v, &f.bits, sizeof v);
+        if (!std::isfinite(v)) return describeBody(f.body) + " " + f.path + " is " + f.text() + " (overflow)";
+    }
+    return {};
 }
 
 std::vector<FieldDifference> diffFields(const std::vector<StateField>& a, const std::vector<StateField>& b) {

@@ -162,6 +162,9 @@ struct FieldDifference {
 /// The fields of a and b that differ, matched by (body, path), in the order of a, then those only in b.
 std::vector<FieldDifference> diffFields(const std::vector<StateField>& a, const std::vector<StateField>& b);
 
+/// The first real field that is not finite, as "body 3:1 velocity.x is inf", or empty when there is none.
+std::string firstNonFinite(const std::vector<StateField>& fields);
+
 /// "body 3:1" (slot index + 1 and generation) or "world" for the null id.
 std::string describeBody(BodyId id);
 

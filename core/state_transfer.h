@@ -5,6 +5,7 @@
 // Header-only because the walks are templates over these types; internal to the world state files.
 #pragma once
 
+#include "input_policy.h"
 #include "state_io.h"
 #include "step_support.h"
 #include "task_system.h"
@@ -268,7 +269,13 @@ void worldSettings(Io& io, Def& def, Extra extra) {
     io.u64("stepBudget", def.stepBudget);  // (workerCount and the task callbacks are not state)
     if constexpr (Io::kReading) {
         def.lcp.warmBasis = nullptr;  // per-call input of the solver, never state
-        if (!(def.hz > 0.0)) io.fail("def.hz must be > 0");
+        // The ranges a scene file may set (core/input_policy.h); the rest must be >= 0 and not absurd.
+        if (!policy::inRange(def.hz, policy::kMinHz, policy::kMaxHz)) io.fail("def.hz out of range");
+        if (!policy::inRange(def.restitutionThreshold, 0.0, policy::kMaxRestitutionThreshold))
+            io.fail("def.restitutionThreshold out of range");
+        for (double x : {def.linearSlop, def.baumgarte, def.maxCorrectionSpeed, def.speculativeDistance,
+                         def.tangentDeadZone, def.linearSleepTolerance, def.angularSleepTolerance, def.timeToSleep})
+            if (!policy::inRange(x, 0.0, 1.0e6)) io.fail("def: step or sleep settings out of range");
         if (def.lcp.maxPivots < 0 || !(def.lcp.pivotTolerance >= 0.0 && def.lcp.pivotTolerance < 1.0) ||
             def.lcp.residualTolerance < 0.0 || def.lcp.degeneracyPerturbation < 0.0 || def.lcp.blockPivotRounds < 0 ||
             def.lcp.blockPivotRounds > 8)
@@ -316,6 +323,25 @@ void stepState(Io& io, Cache& cache, Pairs& touching) {
 template <class Def>
 void keepExecution(const Def& live, Def& fresh) {
     setTaskFields(fresh, taskFieldsOf(live));
+}
+
+/// Reading only: every cache entry names two different body slots of the table (index1 in 1..slotCount; a destroyed
+/// body's entries are dropped with it, its slot stays in the table) and every touching pair is ordered a < b, as the
+/// step makes them.
+template <class Io, class Cache, class Pairs>
+void checkStepState(Io& io, const Cache& cache, std::size_t slotCount, const Pairs& touching) {
+    for (const ContactKey& e : cache.entries()) {
+        if (e.slotA == 0 || e.slotB == 0 || e.slotA > slotCount || e.slotB > slotCount || e.slotA == e.slotB) {
+            io.fail("warm-start cache: an entry names no pair of body slots");
+            return;
+        }
+    }
+    for (const auto& pair : touching) {
+        if (!(pair.first < pair.second)) {
+            io.fail("touching pairs: a pair is not ordered");
+            return;
+        }
+    }
 }
 
 /// The bytes a state walk writes (walk(ByteSink&)).

@@ -2,15 +2,17 @@
 #include "step_support.h"
 
 #include <algorithm>
+#include <cassert>
 #include <iterator>
 
 namespace unison {
 
 namespace {
 
-/// Sorts a sequence by a total order. The step hands over sequences that are nearly sorted already (contacts come in
-/// body order, a manifold's points perhaps swapped): an insertion sort takes those in O(n + inversions); one that
-/// moves more than 8 elements per element on average is finished by std::sort. Same result either way.
+/// Sorts a sequence stably (equal elements keep their order). The step hands over sequences that are nearly sorted
+/// already (contacts come in body order, a manifold's points perhaps swapped): an insertion sort takes those in
+/// O(n + inversions); one that moves more than 8 elements per element on average is finished by std::stable_sort.
+/// Same result either way.
 template <class It>
 void sortNearlySorted(It first, It last) {
     const std::size_t budget = 8 * std::size_t(last - first);
@@ -22,7 +24,7 @@ void sortNearlySorted(It first, It last) {
         for (; hole != first && value < *std::prev(hole); --hole, ++moves) *hole = std::move(*std::prev(hole));
         *hole = std::move(value);
         if (moves > budget) {
-            std::sort(first, last);
+            std::stable_sort(first, last);
             return;
         }
     }
@@ -31,7 +33,17 @@ void sortNearlySorted(It first, It last) {
 }  // namespace
 
 void WarmStartCache::replace(std::vector<ContactKey>& entries) {
+    // Two contacts of one step can share a key (the same feature id reported twice, or a sleeping island copying
+    // its hit for each contact). The sort is stable, so step order decides among equal keys, and only the first of
+    // them is kept: the cache is strictly sorted and the same on every platform. The next cache comes in contact
+    // order, which is nearly key order, and a restored state hands the entries over sorted: the insertion sort
+    // costs O(n) then.
     sortNearlySorted(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end(),
+                              [](const ContactKey& a, const ContactKey& b) { return a.sameKey(b); }),
+                  entries.end());
+    assert(std::adjacent_find(entries.begin(), entries.end(),
+                              [](const ContactKey& a, const ContactKey& b) { return !(a < b); }) == entries.end());
     mEntries.swap(entries);
 }
 

@@ -3,13 +3,16 @@
 // hash and snapshots are in resolver3d/world3d_state.cpp, on core/state_transfer.h.)
 //
 // Owns no world state; core/world_step.h (the step of World2 and World3) uses it.
-// Invariants: the cache is sorted by key (a total order on plain integers); events come out sorted by body-id key.
+// Invariants: the cache is strictly sorted by key (a total order on plain integers; no key twice); events come out
+// sorted by body-id key.
 #pragma once
 
 #include "body_store.h"
+#include "state_io.h"
 
 #include <algorithm>
 #include <cstdint>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -63,7 +66,8 @@ public:
     }
     /// The entry at an index findFrom() returned.
     const ContactKey& at(int index) const { return mEntries[std::size_t(index)]; }
-    /// Replaces the contents with `entries` (sorted here).
+    /// Replaces the contents with `entries`, sorted here by key; of entries with equal keys only the first (in the
+    /// given order) is kept, so the cache never holds a key twice (checked by an assert in debug builds).
     void replace(std::vector<ContactKey>& entries);
     /// Drops the entries of body slot `slot1` (BodyId::index1), keeping the order of the rest. A destroyed body's
     /// entries must go: they are keyed by slot, and a body created later in the slot would inherit them.
@@ -114,6 +118,21 @@ inline void storeBasis(const std::vector<int>& basis, int nc, int k, bool fricti
         }
         if (ci >= 0 && ci < nc) first[ci].basicMask |= bit;
     }
+}
+
+/// The fault of a world after its step `step` (World2/3::fault()): empty when motionProblem(hot record) is empty
+/// for every body, else "step N: " and the first non-finite field of fields() (the slow named walk, run only then)
+/// or, for a finite value out of range, the body and the problem.
+template <class Store, class Check, class Fields>
+std::string stepFault(const Store& bodies, std::uint64_t step, Check motionProblem, Fields fields) {
+    const auto& hot = bodies.hotArray();
+    for (std::size_t d = 0; d < hot.size(); ++d) {
+        const std::string why = motionProblem(hot[d]);
+        if (why.empty()) continue;
+        const std::string field = firstNonFinite(fields());
+        return "step " + std::to_string(step) + ": " + (field.empty() ? describeBody(bodies.idAt(int(d))) + " " + why : field);
+    }
+    return {};
 }
 
 /// Key of a body id for touch pairs: generation in the high half, slot + 1 in the low half.

@@ -27,11 +27,11 @@ std::vector<GoldenScene> goldenScenes() {
         // A 16-row pyramid through its landing: blocks of 250-300 unknowns, so the solver's large-block paths
         // (the LDL^T of the symmetric core, sparse LU, the Schur border of Lemke's block) are covered too.
         {"pyramid16", scenes::pyramidScene(16, 0.5, false), 120},
-        // The 3D world (issue 5): boxes tilted so they land on edges and topple into one heap, spheres bouncing
+        // The 3D world: boxes tilted so they land on edges and topple into one heap, spheres bouncing
         // with e = 0..1, and two sphere-tree bunnies sliding down the paper's ramps (the mesh path).
         {"box_heap3d", scenes::boxPile3Scene(12, true, false), 180},
         {"spheres3d", scenes::spheres3Scene(false), 180},
-        {"bunnies3d", scenes::bunnies3Scene(dir + "../samples/assets/bunny.obj", 0.05, 2, false), 240},
+        {"bunnies3d", scenes::bunnies3Scene(dir + "bunny.obj", 0.05, 2, false), 240},
         // Per-step budgets (core/step_budget.h) below what the landings need, on 2 threads: exact islands, islands
         // approximated by projected Gauss-Seidel, the allocation and the parallel passes all enter the hashes.
         {"pyramid16_budget", scenes::pyramidScene(16, 0.5, false), 120, kPyramidBudget, 2},

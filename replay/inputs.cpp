@@ -16,10 +16,10 @@ constexpr TypeName kTypes[] = {{InputType::applyImpulse, "apply_impulse"}, {Inpu
                                {InputType::setVelocity, "set_velocity"},   {InputType::createBody, "create_body"},
                                {InputType::destroyBody, "destroy_body"},   {InputType::setGravity, "set_gravity"}};
 
-/// Reads a 2- or 3-vector into the 2D and 3D fields (the other stays zero).
-void vec(const json& obj, const std::string& path, const char* key, int dimension, Vec2& v2, Vec3& v3) {
-    const std::vector<double> v = jsonio::numbers(*jsonio::member(obj, path, key, true), path + "." + key,
-                                                  std::size_t(dimension));
+/// Reads a 2- or 3-vector with components in [-limit, limit] into the 2D and 3D fields (the other stays zero).
+void vec(const json& obj, const std::string& path, const char* key, int dimension, double limit, Vec2& v2, Vec3& v3) {
+    const std::vector<double> v = jsonio::numbersWithin(*jsonio::member(obj, path, key, true), path + "." + key,
+                                                        std::size_t(dimension), limit);
     if (dimension == 3) {
         v3 = Vec3(v[0], v[1], v[2]);
     } else {
@@ -39,7 +39,7 @@ std::string where(const InputAction& a, std::size_t index) {
 
 int sceneDimension(const json& scene) {
     const auto it = scene.is_object() ? scene.find("dimension") : scene.end();
-    return it != scene.end() && it->is_number_integer() && it->get<int>() == 3 ? 3 : 2;
+    return it != scene.end() && it->is_number_integer() && it->get<std::int64_t>() == 3 ? 3 : 2;
 }
 
 InputScript parseInputs(const json& js, const std::string& what, int dimension) {
@@ -51,7 +51,7 @@ InputScript parseInputs(const json& js, const std::string& what, int dimension) 
         const std::string path = what + ".inputs[" + std::to_string(i) + "]";
         const json& item = list[i];
         InputAction a;
-        a.tick = jsonio::integer(*jsonio::member(item, path, "tick", true), path + ".tick", 1, 1 << 30);
+        a.tick = jsonio::integer(*jsonio::member(item, path, "tick", true), path + ".tick", 1, policy::kMaxTick);
         const json* type = jsonio::member(item, path, "type", true);
         const std::string t = type->is_string() ? type->get<std::string>() : std::string();
         const auto it = std::find_if(std::begin(kTypes), std::end(kTypes), [&](const TypeName& n) { return t == n.name; });
@@ -63,28 +63,29 @@ InputScript parseInputs(const json& js, const std::string& what, int dimension) 
         auto point = [&] {
             if (jsonio::member(item, path, "point", false)) {
                 a.hasPoint = true;
-                vec(item, path, "point", dim, a.point, a.point3);
+                vec(item, path, "point", dim, policy::kMaxCoordinate, a.point, a.point3);
             }
         };
         switch (a.type) {
             case InputType::applyImpulse:
                 body();
-                vec(item, path, "impulse", dim, a.vector, a.vector3);
+                vec(item, path, "impulse", dim, policy::kMaxImpulse, a.vector, a.vector3);
                 point();
                 break;
             case InputType::applyForce:
                 body();
-                vec(item, path, "force", dim, a.vector, a.vector3);
+                vec(item, path, "force", dim, policy::kMaxForce, a.vector, a.vector3);
                 point();
                 break;
             case InputType::setVelocity:
                 body();
-                vec(item, path, "linear_velocity", dim, a.vector, a.vector3);
+                vec(item, path, "linear_velocity", dim, policy::kMaxSpeed, a.vector, a.vector3);
                 if (dim == 3) {
                     if (jsonio::member(item, path, "angular_velocity", false))
-                        vec(item, path, "angular_velocity", dim, a.vector, a.angularVelocity3);
+                        vec(item, path, "angular_velocity", dim, policy::kMaxAngularSpeed, a.vector, a.angularVelocity3);
                 } else {
-                    a.angularVelocity = jsonio::numberOr(item, path, "angular_velocity", 0.0);
+                    a.angularVelocity = jsonio::numberInOr(item, path, "angular_velocity", -policy::kMaxAngularSpeed,
+                                                           policy::kMaxAngularSpeed, 0.0);
                 }
                 break;
             case InputType::createBody:
@@ -99,7 +100,7 @@ InputScript parseInputs(const json& js, const std::string& what, int dimension) 
                 body();
                 break;
             case InputType::setGravity:
-                vec(item, path, "gravity", dim, a.vector, a.vector3);
+                vec(item, path, "gravity", dim, policy::kMaxGravity, a.vector, a.vector3);
                 break;
         }
         script.actions.push_back(std::move(a));
@@ -156,6 +157,7 @@ void Session<World>::tick(int tick, const InputScript& script) {
         ++mNext;
     }
     mWorld->step();
+    if (!mWorld->fault().empty()) throw ReplayError("tick " + std::to_string(tick) + ": " + mWorld->fault());
 }
 
 template <class World>

@@ -62,10 +62,12 @@ nlohmann::json inputsToJson(const InputScript& script);
 template <class World>
 class Session {
 public:
-    /// Loads the scene (3D: obj paths relative to the working directory). Throws ReplayError on a bad scene.
+    /// Loads the scene (3D: no `obj` files; a recording's scene carries its meshes inline). Throws ReplayError on a
+    /// bad scene.
     Session(const nlohmann::json& scene, const std::string& what);
     /// Applies the inputs of tick `tick` (script.actions[next..] with that tick), then steps. Throws ReplayError
-    /// when an input cannot be applied (unknown or destroyed body, static body, bad body definition).
+    /// when an input cannot be applied (unknown or destroyed body, static body, bad body definition) or when the
+    /// step overflows (World::fault()).
     void tick(int tick, const InputScript& script);
     World& world() { return *mWorld; }
     const World& world() const { return *mWorld; }

@@ -40,7 +40,8 @@ void recordWith(Recording& rec) {
 
 Recording record(const nlohmann::json& scene, const InputScript& inputs, int steps, int snapshotEvery,
                  const std::string& baseDir) {
-    if (steps < 0) throw ReplayError("record: steps must be >= 0");
+    if (steps < 0 || steps > policy::kMaxTick)
+        throw ReplayError("record: steps must be in [0, " + std::to_string(policy::kMaxTick) + "]");
     if (snapshotEvery < 1) throw ReplayError("record: the snapshot interval must be >= 1");
     const int dimension = sceneDimension(scene);
     if (!inputs.actions.empty() && inputs.dimension != dimension)
@@ -115,7 +116,8 @@ Recording parseRecording(const std::vector<std::uint8_t>& bytes, const std::stri
         rec.snapshots.push_back(std::move(s));
     }
     if (r.ok() && !r.atEnd()) r.fail("unexpected bytes after the snapshots");
-    if (r.ok() && (rec.steps < 0 || rec.snapshotEvery < 1 || rec.hashes.size() != std::size_t(rec.steps) + 1))
+    if (r.ok() && (rec.steps < 0 || rec.steps > policy::kMaxTick || rec.snapshotEvery < 1 ||
+                   rec.hashes.size() != std::size_t(rec.steps) + 1))
         r.fail("inconsistent steps, snapshot interval or hash count");
     if (!r.ok()) throw fail(r.error());
     rec.scene = jsonio::parseJson(sceneText, what + " (scene)");
@@ -127,7 +129,7 @@ Recording parseRecording(const std::vector<std::uint8_t>& bytes, const std::stri
 namespace {
 
 template <class World>
-VerifyReport verifyWith(const Recording& rec) {
+VerifyReport verifyWith(const Recording& rec, bool keepGoing) {
     VerifyReport report;
     Session<World> session(rec.scene, "recording scene");
     std::size_t nextSnapshot = 0;
@@ -143,6 +145,7 @@ VerifyReport verifyWith(const Recording& rec) {
         }
         while (nextSnapshot < rec.snapshots.size() && rec.snapshots[nextSnapshot].tick < t) ++nextSnapshot;
         const bool haveSnapshot = nextSnapshot < rec.snapshots.size() && rec.snapshots[nextSnapshot].tick == t;
+        if (!report.match && !haveSnapshot && !keepGoing) break;  // a crafted file must not make us replay on
         if (!report.match && haveSnapshot) {
             // Locate the desync: the recorded state at this tick against the replayed one, field by field.
             World recorded;
@@ -158,11 +161,11 @@ VerifyReport verifyWith(const Recording& rec) {
 
 }  // namespace
 
-VerifyReport verify(const Recording& rec) {
+VerifyReport verify(const Recording& rec, bool keepGoing) {
     if (!rec.inputs.actions.empty() && rec.inputs.dimension != sceneDimension(rec.scene))
         throw ReplayError("verify: the inputs were read for a " + std::to_string(rec.inputs.dimension) +
                           "D scene, the recording's scene is " + std::to_string(sceneDimension(rec.scene)) + "D");
-    return sceneDimension(rec.scene) == 3 ? verifyWith<World3>(rec) : verifyWith<World2>(rec);
+    return sceneDimension(rec.scene) == 3 ? verifyWith<World3>(rec, keepGoing) : verifyWith<World2>(rec, keepGoing);
 }
 
 nlohmann::json reportToJson(const VerifyReport& report, std::size_t limit) {
@@ -183,6 +186,7 @@ std::string reportSummary(const VerifyReport& report) {
     if (report.match) return "all " + std::to_string(report.ticks) + " ticks match";
     std::string s = "desync at tick " + std::to_string(report.firstTick) + " (recorded hash " +
                     hexHash(report.recordedHash) + ", replayed " + hexHash(report.replayedHash) + ")";
+    if (report.comparedTick < 0) return s + "; no snapshot was recorded at that tick (--keep-going replays on to the next)";
     if (report.differences.empty()) return s + "; no recorded snapshot shows which field";
     const FieldDifference& d = report.differences.front();
     s += "; at snapshot tick " + std::to_string(report.comparedTick) + " " + std::to_string(report.differences.size()) +

@@ -8,7 +8,10 @@
 // interval, u64 hash count + the hashes (ticks 0..steps), u64 snapshot count + (u32 tick, u64 length, bytes) each,
 // then the XXH3 of everything before it.
 // Desync report: the first tick whose hash differs, and the field-level differences between the replayed state
-// and the recorded snapshot at the first snapshot tick at or after it (the same tick when K = 1).
+// and the recorded snapshot at that tick (K = 1, or the tick is a multiple of K), or, when asked to keep going, at
+// the first snapshot tick after it.
+// Reading is bounded by the file: counts are checked against the bytes left before anything is allocated, the file
+// is at most policy::kMaxBinaryBytes, and its scene and inputs are JSON under the same limits as files.
 #pragma once
 
 #include "inputs.h"
@@ -55,8 +58,11 @@ struct VerifyReport {
     std::vector<int> bodyNumbers;        ///< input body number of each difference's body (-1: none / world)
 };
 
-/// Replays a recording tick by tick. Throws ReplayError when the recording's own scene or inputs are bad.
-VerifyReport verify(const Recording& rec);
+/// Replays a recording tick by tick and stops at the first tick whose hash differs (its fields are compared when a
+/// snapshot was recorded at that tick). With keepGoing it replays on to the next recorded snapshot and compares the
+/// fields there (work up to the snapshot interval more). Throws ReplayError when the recording's own scene or
+/// inputs are bad, or when a replayed step overflows.
+VerifyReport verify(const Recording& rec, bool keepGoing = false);
 
 /// {"status": "match"|"desync", "ticks", and for a desync "first_desync_tick", "recorded_hash", "replayed_hash",
 /// "compared_snapshot_tick", "differing_fields", "differences": [{"body", "body_number", "field", "recorded",

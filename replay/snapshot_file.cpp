@@ -4,8 +4,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -40,11 +38,8 @@ void writeFileAtomic(const std::string& path, const std::vector<std::uint8_t>& b
 }
 
 std::vector<std::uint8_t> readBinaryFile(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw ReplayError(path + ": cannot open file");
-    std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw ReplayError(path + ": read error");
-    return bytes;
+    const std::string text = jsonio::readFile(path, policy::kMaxBinaryBytes);  // bounded, like every input
+    return std::vector<std::uint8_t>(text.begin(), text.end());
 }
 
 namespace {

@@ -17,7 +17,7 @@ namespace unison::replay {
 
 /// Writes `bytes` to `path` atomically. Throws ReplayError (the target is untouched then).
 void writeFileAtomic(const std::string& path, const std::vector<std::uint8_t>& bytes);
-/// Reads a whole file. Throws ReplayError.
+/// Reads a whole file of at most policy::kMaxBinaryBytes. Throws ReplayError.
 std::vector<std::uint8_t> readBinaryFile(const std::string& path);
 
 /// Restores a snapshot into `world`; a rejected snapshot throws ReplayError naming `what` and leaves world untouched.

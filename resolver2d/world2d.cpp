@@ -12,6 +12,7 @@
 #include "det_math.h"
 #include "island.h"
 #include "resolver2d.h"
+#include "world2d_checks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -36,9 +37,8 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
         if (error) *error = why;
         return BodyId::null();
     };
-    if (!finiteVec(def.position) || !std::isfinite(def.angle) || !finiteVec(def.linearVelocity) ||
-        !std::isfinite(def.angularVelocity))
-        return fail("body: position, angle and velocities must be finite");
+    const std::string problem = checkBodyDef2(def, shapes);  // core/input_policy.h ranges, polygon consistency
+    if (!problem.empty()) return fail(problem);
     BodyInfo2 info;
     info.type = def.type;
     info.shapes = shapes;
@@ -58,6 +58,9 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
         info.invMass = 1.0 / mass;
         info.localCenter = (1.0 / mass) * moment;
         info.inertia = inertiaOrigin - mass * dot(info.localCenter, info.localCenter);
+        // Shapes far from the body origin lose the inertia about their centre in this difference: refuse rather than
+        // keep a negative inertia that restore() (rightly) refuses.
+        if (!(info.inertia >= 0.0)) return fail("body: inertia lost to rounding (move the body origin to its shapes)");
         info.invInertia = info.inertia > 0.0 ? 1.0 / info.inertia : 0.0;
     }
     BodyState2 state;
@@ -90,7 +93,9 @@ double World2::angle(BodyId id) const {
 
 bool World2::setVelocity(BodyId id, Vec2 v, double w) {
     const int d = mBodies.denseIndex(id);
-    if (d < 0 || !finiteVec(v) || !std::isfinite(w)) return false;
+    if (d < 0 || !policy::within(v.x, policy::kMaxSpeed) || !policy::within(v.y, policy::kMaxSpeed) ||
+        !policy::within(w, policy::kMaxAngularSpeed))
+        return false;
     BodyInfo2& info = mBodies.cold(d);
     if (info.type == BodyType::staticBody) return false;
     mBodies.hot(d).velocity = v;
@@ -102,7 +107,9 @@ bool World2::setVelocity(BodyId id, Vec2 v, double w) {
 
 bool World2::applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint) {
     const int d = mBodies.denseIndex(id);
-    if (d < 0 || !finiteVec(impulse) || !finiteVec(worldPoint)) return false;
+    if (d < 0 || !policy::within(impulse.x, policy::kMaxImpulse) || !policy::within(impulse.y, policy::kMaxImpulse) ||
+        !finiteVec(worldPoint))
+        return false;
     BodyInfo2& info = mBodies.cold(d);
     if (info.type != BodyType::dynamicBody) return false;
     BodyState2& s = mBodies.hot(d);
@@ -158,6 +165,7 @@ bool World2::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef,
 void World2::step() { step(mDef.stepBudget); }
 
 void World2::step(std::uint64_t budget) {
+    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
     Hooks hooks{*this};
     mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
     mContactPoints.clear();
@@ -167,6 +175,7 @@ void World2::step(std::uint64_t budget) {
                                   c.normalImpulse, dot(c.tangentImpulse, perp), c.feature});
     }
     ++mStepCount;
+    mFault = findFault();
 }
 
 }  // namespace unison

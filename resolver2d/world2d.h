@@ -13,6 +13,7 @@
 #include "body_store.h"
 #include "collide2d.h"
 #include "dim2.h"
+#include "input_policy.h"
 #include "lcp.h"
 #include "shapes2d.h"
 #include "state_io.h"
@@ -122,13 +123,14 @@ public:
     explicit World2(const WorldDef2& def = {});
 
     /// Creates a body with its shapes (body-frame coordinates). Returns a null id and an error message when the
-    /// definition is invalid (non-finite values, a dynamic body without mass, too many bodies); the world is
-    /// unchanged then.
+    /// definition is invalid (values outside core/input_policy.h's ranges, an inconsistent polygon, a dynamic body
+    /// without mass, too many bodies); the world is unchanged then.
     BodyId createBody(const BodyDef2& def, const std::vector<Shape2>& shapes, std::string* error = nullptr);
     /// Removes a body; false for a stale or null id. Its contacts end (end events next step).
     bool destroyBody(BodyId id);
 
-    /// Advances by one step of 1/hz seconds within def().stepBudget.
+    /// Advances by one step of 1/hz seconds within def().stepBudget. A world whose state is no longer finite
+    /// (fault()) does not step.
     void step();
     /// Advances by one step with `budget` work units (0 = unlimited) instead of def().stepBudget, for this call only
     /// (not recorded in the state: a replay steps with def().stepBudget).
@@ -138,6 +140,10 @@ public:
     /// Sets the threads of the next steps: def().workerCount and the job-system callbacks (none: the built-in pool).
     /// False (and nothing changes) for workerCount < 1 or only one of the two callbacks.
     bool setTaskSystem(const TaskSystem& tasks);
+    /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
+    /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
+    /// (world2d_checks.cpp).
+    const std::string& fault() const { return mFault; }
 
     int bodyCount() const { return mBodies.size(); }
     bool valid(BodyId id) const { return mBodies.valid(id); }
@@ -146,11 +152,18 @@ public:
     const BodyInfo2* info(BodyId id) const;
     /// Body angle (rad) from its rotation, through the deterministic atan2.
     double angle(BodyId id) const;
-    /// Sets the velocity of a body (wakes it).
+    /// Sets the velocity of a body (wakes it). False (nothing changes) for an invalid id, a static body or a
+    /// velocity outside core/input_policy.h's ranges.
     bool setVelocity(BodyId id, Vec2 v, double w);
-    /// Adds an impulse (N s) at a world point (wakes the body).
+    /// Adds an impulse (N s) at a world point (wakes the body). False (nothing changes) for an invalid id, a body
+    /// that is not dynamic, or an impulse outside the policy's range.
     bool applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint);
-    void setGravity(Vec2 g) { mDef.gravity = g; }
+    /// Sets gravity (m/s^2); false (nothing changes) outside the policy's range.
+    bool setGravity(Vec2 g) {
+        if (!policy::within(g.x, policy::kMaxGravity) || !policy::within(g.y, policy::kMaxGravity)) return false;
+        mDef.gravity = g;
+        return true;
+    }
     const WorldDef2& def() const { return mDef; }
 
     /// Body ids in dense order (the order every loop of the step uses).
@@ -189,11 +202,15 @@ private:
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
 
+    /// The fault() message for the current state: empty when every hot body record is finite.
+    std::string findFault() const;
+
     WorldDef2 mDef;
     BodyStore<BodyState2, BodyInfo2> mBodies;
     WorldStep<Dim2> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
     std::vector<ContactPoint2> mContactPoints;
     std::uint64_t mStepCount = 0;
+    std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
 };
 
 }  // namespace unison

@@ -15,6 +15,7 @@
 
 #include "compact_state.h"
 #include "state_transfer.h"
+#include "world2d_checks.h"
 
 #include <cmath>
 #include <cstring>
@@ -102,6 +103,12 @@ void body(Io& io, Hot& s, Cold& info) {
     io.f64("sleepTime", info.sleepTime);
     boolean(io, "awake", info.awake);
     sequence(io, "shapes", info.shapes, 8, [&](auto& sh) { shape(io, sh); });
+    if constexpr (Io::kReading) {
+        if (io.ok()) {
+            const std::string why = checkBodyRecord2(s, info);  // as strict as createBody()
+            if (!why.empty()) io.fail(why);
+        }
+    }
 }
 
 }  // namespace
@@ -118,11 +125,17 @@ void World2::transferState(Io& io, Self& world) {
         }
     });
     io.pop();
+    if constexpr (Io::kReading) {
+        if (!policy::within(def.gravity.x, policy::kMaxGravity) || !policy::within(def.gravity.y, policy::kMaxGravity)) io.fail("def.gravity out of range");
+    }
     io.u64("stepCount", world.mStepCount);
 
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold); });
 
     stepState(io, world.mStep.cache, world.mStep.touching);
+    if constexpr (Io::kReading) {
+        if (io.ok()) checkStepState(io, world.mStep.cache, world.mBodies.slots().size(), world.mStep.touching);
+    }
 }
 
 std::uint64_t World2::stateHash() const {
@@ -186,7 +199,12 @@ void World2::saveCompact(CompactState& out) const {
 }
 
 bool World2::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
-    return unison::restoreCompact<CompactFields2>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error);
+    if (!unison::restoreCompact<CompactFields2>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
+        return false;
+    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
+    // still be out of range, the world says so and does not step on them.
+    mFault = findFault();
+    return true;
 }
 
 }  // namespace unison

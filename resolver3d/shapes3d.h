@@ -127,7 +127,9 @@ struct Shape3 {
 /// Shape builders: an empty string on success, else a message (and *out untouched).
 std::string makeSphere(const Vec3& center, double radius, Shape3* out);
 std::string makeBox(const Vec3& halfExtents, const Vec3& center, Shape3* out);
-/// The convex hull of 4..256 points (not all coplanar). Points inside the hull are dropped.
+/// Most points makeHull takes.
+constexpr std::size_t kMaxHullPoints = 256;
+/// The convex hull of 4..kMaxHullPoints points (not all coplanar). Points inside the hull are dropped.
 std::string makeHull(const std::vector<Vec3>& points, Shape3* out);
 /// A static half-space normal . x <= offset (normal is normalised here).
 std::string makePlane(const Vec3& normal, double offset, Shape3* out);

@@ -10,6 +10,7 @@
 #include "contact_resolver.h"
 #include "island.h"
 #include "resolver3d.h"
+#include "world3d_checks.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,9 +27,8 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
         return BodyId::null();
     };
     const Quat& q = def.orientation;
-    if (!D3::finite(def.position) || !D3::finite(def.linearVelocity) || !D3::finite(def.angularVelocity) ||
-        !std::isfinite(q.w) || !std::isfinite(q.x) || !std::isfinite(q.y) || !std::isfinite(q.z))
-        return fail("body: position, orientation and velocities must be finite");
+    const std::string problem = checkBodyDef3(def, shapes);  // core/input_policy.h ranges, shape consistency
+    if (!problem.empty()) return fail(problem);
     if (!(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z > 1e-12)) return fail("body: orientation must be non-zero");
     BodyInfo3 info;
     info.type = def.type;
@@ -56,7 +56,8 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
         info.invMass = 1.0 / mass;
         info.localCenter = D3::scale(1.0 / mass, moment);
         info.inertia = inertiaOrigin - shift(mass, info.localCenter);
-        if (!(info.inertia.determinant() > 0.0)) return fail("body: inertia tensor must be positive definite");
+        const std::string inertia = checkInertia3(info.inertia);  // the check restore() makes
+        if (!inertia.empty()) return fail(inertia);
         info.invInertia = info.inertia.inverse();
     }
     BodyState3 state;
@@ -89,7 +90,10 @@ Transform3 World3::transform(BodyId id) const {
 
 bool World3::setVelocity(BodyId id, const Vec3& v, const Vec3& w) {
     const int d = mBodies.denseIndex(id);
-    if (d < 0 || !D3::finite(v) || !D3::finite(w)) return false;
+    const auto within = [](const Vec3& x, double limit) {
+        return policy::within(x.x(), limit) && policy::within(x.y(), limit) && policy::within(x.z(), limit);
+    };
+    if (d < 0 || !within(v, policy::kMaxSpeed) || !within(w, policy::kMaxAngularSpeed)) return false;
     BodyInfo3& info = mBodies.cold(d);
     if (info.type == BodyType3::staticBody) return false;
     mBodies.hot(d).velocity = v;
@@ -101,7 +105,9 @@ bool World3::setVelocity(BodyId id, const Vec3& v, const Vec3& w) {
 
 bool World3::applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint) {
     const int d = mBodies.denseIndex(id);
-    if (d < 0 || !D3::finite(impulse) || !D3::finite(worldPoint)) return false;
+    const bool small = policy::within(impulse.x(), policy::kMaxImpulse) && policy::within(impulse.y(), policy::kMaxImpulse) &&
+                       policy::within(impulse.z(), policy::kMaxImpulse);
+    if (d < 0 || !small || !D3::finite(worldPoint)) return false;
     BodyInfo3& info = mBodies.cold(d);
     if (info.type != BodyType3::dynamicBody) return false;
     BodyState3& s = mBodies.hot(d);
@@ -171,6 +177,7 @@ bool World3::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef,
 void World3::step() { step(mDef.stepBudget); }
 
 void World3::step(std::uint64_t budget) {
+    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
     mCandidates.clear();
     Hooks hooks{*this};
     mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
@@ -179,6 +186,7 @@ void World3::step(std::uint64_t budget) {
         mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,
                                   c.normalImpulse, c.tangentImpulse, c.feature});
     ++mStepCount;
+    mFault = findFault();
 }
 
 }  // namespace unison

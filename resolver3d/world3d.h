@@ -13,6 +13,7 @@
 
 #include "body_store.h"
 #include "collide3d.h"
+#include "input_policy.h"
 #include "lcp.h"
 #include "shapes3d.h"
 #include "state_io.h"
@@ -136,13 +137,15 @@ public:
     explicit World3(const WorldDef3& def = {});
 
     /// Creates a body with its shapes (body frame). Returns a null id and a message when the definition is invalid
-    /// (non-finite values, a dynamic body without mass, a plane on a moving body, capacity); the world is unchanged.
+    /// (values outside core/input_policy.h's ranges, an inconsistent shape, a dynamic body without mass, a plane on
+    /// a moving body, capacity); the world is unchanged.
     BodyId createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error = nullptr);
     /// Removes a body and its warm-start entries; false for a stale or null id. Its contacts end (end events next
     /// step).
     bool destroyBody(BodyId id);
 
-    /// Advances by one step of 1/hz seconds within def().stepBudget.
+    /// Advances by one step of 1/hz seconds within def().stepBudget. A world whose state is no longer finite
+    /// (fault()) does not step.
     void step();
     /// Advances by one step with `budget` work units (0 = unlimited) instead of def().stepBudget, for this call only
     /// (not recorded in the state: a replay steps with def().stepBudget).
@@ -152,6 +155,10 @@ public:
     /// Sets the threads of the next steps: def().workerCount and the job-system callbacks (none: the built-in pool).
     /// False (and nothing changes) for workerCount < 1 or only one of the two callbacks.
     bool setTaskSystem(const TaskSystem& tasks);
+    /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
+    /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
+    /// (world3d_checks.cpp).
+    const std::string& fault() const { return mFault; }
 
     int bodyCount() const { return mBodies.size(); }
     bool valid(BodyId id) const { return mBodies.valid(id); }
@@ -159,9 +166,17 @@ public:
     const BodyInfo3* info(BodyId id) const;
     /// The body's transform (origin and rotation matrix); identity for an invalid id.
     Transform3 transform(BodyId id) const;
-    /// Sets the velocity of a body (wakes it). False for static bodies, invalid ids or non-finite values.
+    /// Sets the velocity of a body (wakes it). False (nothing changes) for static bodies, invalid ids or values
+    /// outside core/input_policy.h's ranges.
     bool setVelocity(BodyId id, const Vec3& v, const Vec3& w);
-    void setGravity(const Vec3& g) { mDef.gravity = g; }
+    /// Sets gravity (m/s^2); false (nothing changes) outside the policy's range.
+    bool setGravity(const Vec3& g) {
+        if (!policy::within(g.x(), policy::kMaxGravity) || !policy::within(g.y(), policy::kMaxGravity) ||
+            !policy::within(g.z(), policy::kMaxGravity))
+            return false;
+        mDef.gravity = g;
+        return true;
+    }
     const WorldDef3& def() const { return mDef; }
 
     /// Keeps every narrowphase candidate point of the next steps (for drawing the paper's fig. 5).
@@ -176,7 +191,8 @@ public:
     std::uint64_t stepCount() const { return mStepCount; }
 
     /// Applies an impulse (N s) at a world point: changes the linear and angular velocity and wakes the body.
-    /// False for invalid ids, non-dynamic bodies or non-finite values.
+    /// False (nothing changes) for invalid ids, non-dynamic bodies, a non-finite point or an impulse outside the
+    /// policy's range.
     bool applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint);
 
     /// 64-bit hash (XXH3) of the canonical serialisation of everything that affects the future: settings,
@@ -205,6 +221,9 @@ private:
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
 
+    /// The fault() message for the current state: empty when every hot body record is finite.
+    std::string findFault() const;
+
     WorldDef3 mDef;
     BodyStore<BodyState3, BodyInfo3> mBodies;
     WorldStep<Dim3> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
@@ -212,6 +231,7 @@ private:
     bool mCapture = false;
     std::vector<ManifoldPoint3> mCandidates;
     std::uint64_t mStepCount = 0;
+    std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
 };
 
 }  // namespace unison

@@ -15,6 +15,7 @@
 
 #include "compact_state.h"
 #include "state_transfer.h"
+#include "world3d_checks.h"
 
 #include <cmath>
 
@@ -210,7 +211,10 @@ void body(Io& io, Hot& s, Cold& info, SharedGeometry& shared) {
     boolean(io, "awake", info.awake);
     sequence(io, "shapes", info.shapes, 100, [&](auto& sh) { shape(io, sh, shared); });
     if constexpr (Io::kReading) {
-        if (io.ok() && !(info.mass >= 0.0 && info.invMass >= 0.0)) io.fail("body: mass must be >= 0");
+        if (io.ok()) {
+            const std::string why = checkBodyRecord3(s, info);  // as strict as createBody()
+            if (!why.empty()) io.fail(why);
+        }
     }
 }
 
@@ -233,12 +237,18 @@ void World3::transferState(Io& io, Self& world) {
         }
     });
     io.pop();
+    if constexpr (Io::kReading) {
+        if (!policy::within(def.gravity.x(), policy::kMaxGravity) || !policy::within(def.gravity.y(), policy::kMaxGravity) || !policy::within(def.gravity.z(), policy::kMaxGravity)) io.fail("def.gravity out of range");
+    }
     io.u64("stepCount", world.mStepCount);
 
     SharedGeometry shared;
     bodyStore(io, world.mBodies, [&](auto& hot, auto& cold) { body(io, hot, cold, shared); });
 
     stepState(io, world.mStep.cache, world.mStep.touching);
+    if constexpr (Io::kReading) {
+        if (io.ok()) checkStepState(io, world.mStep.cache, world.mBodies.slots().size(), world.mStep.touching);
+    }
 }
 
 std::uint64_t World3::stateHash() const {
@@ -307,7 +317,12 @@ void World3::saveCompact(CompactState& out) const {
 }
 
 bool World3::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
-    return unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error);
+    if (!unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
+        return false;
+    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
+    // still be out of range, the world says so and does not step on them.
+    mFault = findFault();
+    return true;
 }
 
 }  // namespace unison

@@ -1,5 +1,5 @@
 // samples/bunnies.cpp — the paper's figures 4 and 5: Stanford bunnies falling onto two ramps, every contact of an
-// island resolved at once by one LCP. The bunny is a closed triangle mesh (samples/assets/bunny.obj) collided
+// island resolved at once by one LCP. The bunny is a closed triangle mesh (scenes/bunny.obj) collided
 // through its sphere tree: many candidate points per touching pair (drawn yellow) are reduced to at most 4 (red).
 //
 // Prints one line per step: step, contacts, candidate points, Lemke pivots, islands, the largest residual; then a
@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     double seconds = 10.0;
     int bunnies = 2, frameEvery = 30;
     std::string outDir = "out/bunnies";
-    std::string obj = std::string(UNISON_SOURCE_DIR) + "/samples/assets/bunny.obj";
+    std::string obj = std::string(UNISON_SOURCE_DIR) + "/scenes/bunny.obj";
     bool quiet = false;
     app.add_option("--seconds", seconds, "simulated time (s)")->check(CLI::PositiveNumber);
     app.add_option("--bunnies", bunnies, "number of bunnies")->check(CLI::Range(1, 8));

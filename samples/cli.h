@@ -69,12 +69,14 @@ int runScene(const nlohmann::json& scene, const std::string& what, int steps, in
 int recordCommand(const std::string& sceneFile, const std::string& inputsFile, int steps, int snapshotEvery,
                   const std::string& outFile, std::ostream& out);
 
-/// `unison verify REC [--inputs FILE]`: replays a recording (with its own inputs, or with FILE's instead, to see
-/// where an input change makes a match diverge) and prints its report (replay::reportToJson). Returns 0 when every
-/// tick matches, 1 on a desync (a one-line summary also goes to `err`); a bad file throws InputError. With
-/// `reportFile`, the report (every differing field, up to 1000) is also written there as indented JSON.
-int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err,
-                  const std::string& reportFile = "");
+/// `unison verify REC [--inputs FILE] [--keep-going] [--report FILE]`: replays a recording (with its own inputs, or
+/// with FILE's instead, to see where an input change makes a match diverge) and prints its report
+/// (replay::reportToJson). It stops at the first tick whose hash differs; with keepGoing it replays on to the next
+/// recorded snapshot and lists the fields that differ there. Returns 0 when every tick matches, 1 on a desync (a
+/// one-line summary also goes to `err`); a bad file throws InputError. With `reportFile`, the report (every
+/// differing field, up to 1000) is also written there as indented JSON.
+int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, bool keepGoing, std::ostream& out,
+                  std::ostream& err, const std::string& reportFile = "");
 
 /// `unison view REC -o PAGE [--report REPORT]`: writes the replay viewer page of a recording (samples/view_page.h),
 /// marking a desync report's tick and bodies; prints {"ticks", "bodies", "contacts",

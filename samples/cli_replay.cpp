@@ -38,11 +38,11 @@ int recordCommand(const std::string& sceneFile, const std::string& inputsFile, i
     return 0;
 }
 
-int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, std::ostream& out, std::ostream& err,
-                  const std::string& reportFile) {
+int verifyCommand(const std::string& recordingFile, const std::string& inputsFile, bool keepGoing, std::ostream& out,
+                  std::ostream& err, const std::string& reportFile) {
     replay::Recording rec = replay::parseRecording(replay::readBinaryFile(recordingFile), recordingFile);
     if (!inputsFile.empty()) rec.inputs = readInputs(inputsFile, rec.scene);
-    const replay::VerifyReport report = replay::verify(rec);
+    const replay::VerifyReport report = replay::verify(rec, keepGoing);
     out << replay::reportToJson(report, kReportedDifferences).dump() << "\n";
     if (!reportFile.empty()) replay::writeJsonFile(reportFile, replay::reportToJson(report, kFileDifferences));
     if (report.match) return 0;

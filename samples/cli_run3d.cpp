@@ -21,6 +21,7 @@ int runScene3(const nlohmann::json& scene, const std::string& what, int steps, i
     RunStats run;
     for (int s = 1; s <= steps; ++s) {
         run.step(world);
+        if (!world.fault().empty()) throw InputError(what + ": " + world.fault());
         if (s == snapshot.at) replay::writeFileAtomic(snapshot.path, world.snapshot());
         if (hashEvery > 0 && s % hashEvery == 0) out << nlohmann::json{{"step", s}, {"hash", hashHex(world.stateHash())}}.dump() << "\n";
     }

@@ -61,6 +61,9 @@ int main(int argc, char** argv) {
     verify->add_option("RECORDING", verifyFile, "recording file (.urec)")->required();
     std::string verifyInputs, verifyReport;
     verify->add_option("--inputs", verifyInputs, "replay with these inputs instead of the recorded ones");
+    bool keepGoing = false;
+    verify->add_flag("--keep-going", keepGoing,
+                     "after the first mismatch, replay on to the next recorded snapshot to list the differing fields");
     verify->add_option("--report", verifyReport, "also write the report (JSON) to this file");
 
     std::string viewFile, viewOut, viewReport;
@@ -93,12 +96,12 @@ int main(int argc, char** argv) {
                             RunSnapshot{snapshotAt, snapshotOut}, runBudget);
         }
         if (*record) return recordCommand(sceneFile, inputsFile, recordSteps, snapshotEvery, recordOut, std::cout);
-        if (*verify) return verifyCommand(verifyFile, verifyInputs, std::cout, std::cerr, verifyReport);
+        if (*verify) return verifyCommand(verifyFile, verifyInputs, keepGoing, std::cout, std::cerr, verifyReport);
         if (*view) return viewCommand(viewFile, viewOut, viewReport, std::cout);
         if (*diff) return diffCommand(diffA, diffB, std::cout);
         CommandOutput out;
         if (*lcp) {
-            out = runLcp(parseLcpText(readFile(lcpFile), lcpFile), maxPivots);
+            out = runLcp(parseLcpText(readFile(lcpFile, unison::policy::kMaxLcpTextBytes), lcpFile), maxPivots);
         } else {
             out = runResolve(parseJson(readFile(resolveFile), resolveFile), resolveFile);
         }
@@ -109,6 +112,11 @@ int main(int argc, char** argv) {
         return out.exitCode;
     } catch (const InputError& e) {
         std::cerr << "error: " << e.what() << "\n";
+        return 2;
+    } catch (const nlohmann::json::exception& e) {
+        // A reader that missed a type check: still bad input, never an abort. (Messages of this kind name types,
+        // not the text.)
+        std::cerr << "error: unexpected JSON value: " << e.what() << "\n";
         return 2;
     }
 }

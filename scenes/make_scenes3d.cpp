@@ -2,6 +2,7 @@
 #include "make_scenes3d.h"
 
 #include "det_math.h"
+#include "obj_mesh.h"
 
 namespace unison::scenes {
 namespace {
@@ -138,9 +139,9 @@ json bunnies3Scene(const std::string& objPath, double scale, int bunnies, bool s
     const double angle = 0.35;
     scene["bodies"].push_back(rampBody(-1.0, 2.0, -angle, 1.6, 0.1, 1.0, 0.2));  // upper ramp, falls to the right
     scene["bodies"].push_back(rampBody(1.4, 0.9, angle, 1.6, 0.1, 1.0, 0.2));   // lower ramp, falls to the left
+    json mesh = inlineMeshKeys(readObj(objPath, scale));
+    mesh.update(json{{"type", "mesh"}, {"density", 1.0}, {"friction", 0.5}, {"restitution", 0.1}});
     for (int b = 0; b < bunnies; ++b) {
-        const json mesh = {{"type", "mesh"}, {"obj", objPath}, {"scale", scale}, {"density", 1.0}, {"friction", 0.5},
-                           {"restitution", 0.1}};
         scene["bodies"].push_back(dynamicBody(-1.8 + 0.7 * b, 3.0 + 0.6 * b, -0.2 + 0.3 * b, mesh, axisQuat(1, 0.6 * b - 0.3)));
     }
     return scene;

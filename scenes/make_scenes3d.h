@@ -49,7 +49,8 @@ nlohmann::json ramp3Scene(double angleRad, double mu, bool sleep = true);
 
 /// The paper's figs. 4-5: two ramps (static boxes tilted by +-0.35 rad about z, one above and to the left of the
 /// other) over the ground, and `bunnies` copies of the mesh `objPath` (scaled by `scale`, density 1, friction 0.5)
-/// dropped above the upper ramp, each turned a little differently about y.
+/// dropped above the upper ramp, each turned a little differently about y. The program reads `objPath` here and
+/// the scene carries the scaled mesh inline (vertices and triangles), so loading it opens no file.
 nlohmann::json bunnies3Scene(const std::string& objPath, double scale, int bunnies, bool sleep = true);
 
 }  // namespace unison::scenes

@@ -3,9 +3,12 @@
 // Owns: the 3D side of the scene contract: {"dimension": 3, "gravity": [x, y, z], "hz", "restitution_threshold",
 // "sleep", "friction_directions", "bodies": [{"type", "position": [x, y, z], "orientation": [w, x, y, z],
 // "linear_velocity", "angular_velocity", "shapes": [...]}]}. Shapes: sphere (radius, center), box (half_extents,
-// center), hull (vertices), plane (normal, offset), mesh (vertices + triangles, or obj: a path relative to the
-// scene file; optional scale), each with density, friction, restitution.
-// Invariants: a scene that fails to load leaves no partial world behind; messages name the exact key.
+// center), hull (vertices), plane (normal, offset), mesh (vertices + triangles, or obj: a relative path to a file
+// inside the scene file's folder; optional scale), each with density, friction, restitution.
+// Invariants: a scene that fails to load leaves no partial world behind; messages name the exact key; every number
+// is in the range of core/input_policy.h; no file outside the scene's folder is ever opened (an `obj` with `..`, an
+// absolute path, a symbolic link that leads outside, or anything but a regular file is refused), and without a
+// folder (recordings, inputs) no file at all.
 #pragma once
 
 #include "json_fields.h"
@@ -25,8 +28,8 @@ struct LoadedScene3 {
     std::vector<BodyId> bodies;
 };
 
-/// Builds a 3D world from scene JSON. `what` names the source in messages; `baseDir` resolves relative `obj`
-/// paths (empty: the current directory). Throws jsonio::JsonError.
+/// Builds a 3D world from scene JSON. `what` names the source in messages; `baseDir` is the folder `obj` paths are
+/// confined to (empty: `obj` is refused). Throws jsonio::JsonError.
 LoadedScene3 loadScene3(const nlohmann::json& scene, const std::string& what, const std::string& baseDir = "",
                         const WorldDef3& base = {});
 

@@ -1,11 +1,11 @@
 #!/usr/bin/env node
 // scripts/bunny_to_obj.js — converts the Stanford bunny of the npm package `bunny` (public domain; positions and
-// cells) into samples/assets/bunny.obj, once. If the scan has holes, every boundary loop is closed with a
+// cells) into scenes/bunny.obj, once. If the scan has holes, every boundary loop is closed with a
 // fan around the loop's centroid so that the mesh is closed (World3 integrates mass properties over the volume),
 // and the triangles are flipped if needed so that they are counter-clockwise seen from outside.
 //
 // Usage: cd /tmp && npm pack bunny && tar xzf bunny-1.0.1.tgz   (unpacks to /tmp/package)
-//        node scripts/bunny_to_obj.js /tmp/package/index.js samples/assets/bunny.obj
+//        node scripts/bunny_to_obj.js /tmp/package/index.js scenes/bunny.obj
 'use strict';
 const fs = require('fs');
 const [src, dst] = process.argv.slice(2);

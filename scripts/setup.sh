@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs every build, test and benchmark dependency of Unison from Debian packages.
 # Safe to run again: apt-get skips what is already installed.
-# Usage: scripts/setup.sh [--determinism | --tsan]   (--determinism adds clang, the aarch64 cross compiler and
-# qemu-user for scripts/determinism.sh; --tsan adds clang for scripts/tsan.sh)
+# Usage: scripts/setup.sh [--determinism | --sanitize]   (--determinism adds clang, the aarch64 cross compiler and
+# qemu-user for scripts/determinism.sh; --sanitize adds clang and its sanitizer and libFuzzer runtimes for
+# scripts/sanitize.sh, scripts/tsan.sh and scripts/fuzz.sh; --tsan is the same as --sanitize)
 set -euo pipefail
 packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
           libsiconos-numerics-dev libbullet-dev pkg-config libenet-dev zlib1g-dev chromium)
@@ -12,8 +13,8 @@ command -v npm >/dev/null || packages+=(npm)
 if [ "${1:-}" = "--determinism" ]; then
   packages+=(clang g++-aarch64-linux-gnu qemu-user)
 fi
-if [ "${1:-}" = "--tsan" ]; then
-  packages+=(clang)
+if [ "${1:-}" = "--sanitize" ] || [ "${1:-}" = "--tsan" ]; then
+  packages+=(clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do

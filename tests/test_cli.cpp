@@ -1,84 +1,21 @@
 // tests/test_cli.cpp — the `unison` tool's contract: formats, JSON output and exit codes (0 solved, 1 unsolved,
 // 2 bad input), run as a real process on files written to a temporary folder.
+#include "cli_runner.h"
+
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <string>
 #include <vector>
-#include <sys/wait.h>
-#include <unistd.h>
-
-namespace {
-
-struct Run {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string tempPath(const std::string& name) {
-    const char* dir = std::getenv("TMPDIR");
-    return std::string(dir ? dir : "/tmp") + "/unison_test_cli_" + std::to_string(::getpid()) + "_" + name;
-}
-
-std::string writeTemp(const std::string& name, const std::string& text) {
-    const std::string path = tempPath(name);
-    std::ofstream(path, std::ios::binary) << text;
-    return path;
-}
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-// Every line of `out` parsed as JSON.
-std::vector<nlohmann::json> jsonLines(const std::string& out) {
-    std::vector<nlohmann::json> lines;
-    std::size_t start = 0;
-    for (std::size_t end; (end = out.find('\n', start)) != std::string::npos; start = end + 1)
-        lines.push_back(nlohmann::json::parse(out.substr(start, end - start)));
-    return lines;
-}
-
-// `unison run` output without its wall-clock fields (stats.worst_step_ms and mean_step_ms differ run to run).
-std::string withoutTimes(const std::string& out) {
-    std::string kept;
-    for (nlohmann::json line : jsonLines(out)) {
-        if (line.contains("stats")) {
-            line["stats"].erase("worst_step_ms");
-            line["stats"].erase("mean_step_ms");
-        }
-        kept += line.dump() + "\n";
-    }
-    return kept;
-}
-
-Run unison(const std::string& args) {
-    const std::string out = tempPath("stdout"), err = tempPath("stderr");
-    const std::string cmd = std::string(UNISON_CLI_PATH) + " " + args + " >" + out + " 2>" + err;
-    const int status = std::system(cmd.c_str());
-    Run r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    std::remove(out.c_str());
-    std::remove(err.c_str());
-    return r;
-}
-
-}  // namespace
 
 TEST_SUITE("cli") {
 
 TEST_CASE("lcp: solves a text file and prints the contract's JSON") {
     const std::string f = writeTemp("a.txt", "2\n2 1\n1 2\n-5 -6\n");
-    const Run r = unison("lcp " + f);
+    const Run r = cli("lcp " + f);
     REQUIRE(r.exitCode == 0);
     const auto j = nlohmann::json::parse(r.out);
     CHECK(j["status"] == "solved");
@@ -92,7 +29,7 @@ TEST_CASE("lcp: solves a text file and prints the contract's JSON") {
 
 TEST_CASE("lcp: unsolved problems exit 1 with their status") {
     const std::string f = writeTemp("inf.txt", "2  1 -1 -1 1  -1 -1");
-    const Run r = unison("lcp " + f);
+    const Run r = cli("lcp " + f);
     CHECK(r.exitCode == 1);
     CHECK(nlohmann::json::parse(r.out)["status"] == "infeasible");
     // Murty's matrix n = 8 (b_i = -1 + 0.25 2^-(i+1), see scenes::murty) needs 256 pivots: a cap of 10 stops it.
@@ -102,10 +39,10 @@ TEST_CASE("lcp: unsolved problems exit 1 with their status") {
     }
     for (int i = 0; i < 8; ++i) murty += std::to_string(-1.0 + 0.25 * std::ldexp(1.0, -(i + 1))) + " ";
     const std::string g = writeTemp("murty.txt", murty);
-    const Run capped = unison("lcp " + g + " --max-pivots 10");
+    const Run capped = cli("lcp " + g + " --max-pivots 10");
     CHECK(capped.exitCode == 1);
     CHECK(nlohmann::json::parse(capped.out)["status"] == "pivot_limit");
-    CHECK(unison("lcp " + g).exitCode == 0);
+    CHECK(cli("lcp " + g).exitCode == 0);
     std::remove(f.c_str());
     std::remove(g.c_str());
 }
@@ -123,17 +60,17 @@ TEST_CASE("lcp: malformed files exit 2 with a message on stderr") {
         const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad.txt", text);
-        const Run r = unison("lcp " + f);
+        const Run r = cli("lcp " + f);
         CHECK(r.exitCode == 2);
         CHECK(r.out.empty());
         CHECK(r.err.find(fragment) != std::string::npos);
         std::remove(f.c_str());
     }
-    const Run missing = unison("lcp " + tempPath("does_not_exist.txt"));
+    const Run missing = cli("lcp " + tempPath("does_not_exist.txt"));
     CHECK(missing.exitCode == 2);
     CHECK(missing.err.find("cannot open") != std::string::npos);
-    CHECK(unison("lcp").exitCode == 2);
-    CHECK(unison("frobnicate").exitCode == 2);
+    CHECK(cli("lcp").exitCode == 2);
+    CHECK(cli("frobnicate").exitCode == 2);
 }
 
 TEST_CASE("resolve: a 2D cradle through the command line matches the closed form") {
@@ -145,7 +82,7 @@ TEST_CASE("resolve: a 2D cradle through the command line matches the closed form
         {"contacts", {{{"a", 0}, {"b", 1}, {"point", {0.5, 0}}, {"normal", {-1, 0}}, {"restitution", 1}},
                       {{"a", 1}, {"b", 2}, {"point", {1.5, 0}}, {"normal", {-1, 0}}, {"restitution", 1}}}}};
     const std::string f = writeTemp("cradle.json", in.dump());
-    const Run r = unison("resolve " + f);
+    const Run r = cli("resolve " + f);
     REQUIRE(r.exitCode == 0);
     const auto j = nlohmann::json::parse(r.out);
     CHECK(j["status"] == "solved");
@@ -171,7 +108,7 @@ TEST_CASE("resolve: a 3D cube on four corners through the command line") {
                      {"angular_velocity", {0, 0, 0}}}}},
         {"contacts", contacts}};
     const std::string f = writeTemp("cube.json", in.dump());
-    const Run r = unison("resolve " + f);
+    const Run r = cli("resolve " + f);
     REQUIRE(r.exitCode == 0);
     const auto j = nlohmann::json::parse(r.out);
     CHECK(j["bodies"][1]["velocity"][2].get<double>() == doctest::Approx(1.0));
@@ -183,7 +120,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
     const std::pair<const char*, const char*> cases[] = {
         {"{\"dimension\": 2, \"bodies\": [", "malformed JSON"},
         {"{\"bodies\": [], \"contacts\": []}", "dimension: missing"},
-        {"{\"dimension\": 4, \"bodies\": [], \"contacts\": []}", "dimension: must be in [2, 3]"},
+        {"{\"dimension\": 4, \"bodies\": [], \"contacts\": []}", "dimension: must be an integer in [2, 3]"},
         {"{\"dimension\": 2, \"bodies\": [{\"mass\": -1, \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
          "bodies[0].mass: must be > 0"},
         {"{\"dimension\": 2, \"bodies\": [{\"mass\": \"x\", \"inertia\": 1, \"position\": [0,0]}], \"contacts\": []}",
@@ -192,7 +129,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
          "bodies[0].position: expected an array of 2 numbers"},
         {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
          "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 3, \"point\": [0,0], \"normal\": [0,1]}]}",
-         "contacts[0].b: must be in [0, 1]"},
+         "contacts[0].b: must be an integer in [0, 1]"},
         {"{\"dimension\": 2, \"bodies\": [{\"static\": true, \"position\": [0,0]}, {\"mass\": 1, \"inertia\": 1, "
          "\"position\": [0,1]}], \"contacts\": [{\"a\": 1, \"b\": 0, \"point\": [0,0], \"normal\": [0,2]}]}",
          "unit length"},
@@ -205,7 +142,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
         const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad.json", text);
-        const Run r = unison("resolve " + f);
+        const Run r = cli("resolve " + f);
         CHECK(r.exitCode == 2);
         CHECK(r.err.find(fragment) != std::string::npos);
         std::remove(f.c_str());
@@ -214,7 +151,7 @@ TEST_CASE("resolve: bad JSON and bad values exit 2 naming the key") {
 
 TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scenes exit 2") {
     const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json";
-    const Run r = unison("run " + scene + " --steps 4 --hash-every 2");
+    const Run r = cli("run " + scene + " --steps 4 --hash-every 2");
     REQUIRE(r.exitCode == 0);
     const std::vector<nlohmann::json> lines = jsonLines(r.out);
     REQUIRE(lines.size() == 3);
@@ -225,7 +162,7 @@ TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scene
     CHECK(lines[2]["hash"] == lines[1]["hash"]);
     CHECK(lines[2]["bodies"][0]["linear_velocity"][0].get<double>() == doctest::Approx(-1.2));  // 2 (1 - 2 * 4/5)
     // Same command, same bytes.
-    CHECK(withoutTimes(unison("run " + scene + " --steps 4 --hash-every 2").out) == withoutTimes(r.out));
+    CHECK(withoutTimes(cli("run " + scene + " --steps 4 --hash-every 2").out) == withoutTimes(r.out));
     const std::pair<const char*, const char*> bad[] = {
         {"{\"dimension\": 2, \"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": -1}]}]}", "radius"},
         {"{\"dimension\": 2, \"bodies\": [{\"shapes\": [{\"type\": \"polygon\", \"vertices\": [[0,0],[0,1],[1,0]]}]}]}",
@@ -240,7 +177,7 @@ TEST_CASE("run: steps a scene, prints hash lines then the final state; bad scene
         const auto& fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad_scene.json", text);
-        const Run b = unison("run " + f);
+        const Run b = cli("run " + f);
         CHECK(b.exitCode == 2);
         CHECK(b.err.find(fragment) != std::string::npos);
         std::remove(f.c_str());
@@ -256,16 +193,21 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
         {"tick": 3, "type": "apply_impulse", "body": 4, "impulse": [-0.5, 0]},
         {"tick": 6, "type": "set_gravity", "gravity": [0, -1.5]}]})");
     const std::string rec = tempPath("m.urec"), a = tempPath("a.usnap"), b = tempPath("b.usnap");
-    const Run r = unison("record " + scene + " --inputs " + inputs + " --steps 12 --snapshot-every 4 -o " + rec);
+    const Run r = cli("record " + scene + " --inputs " + inputs + " --steps 12 --snapshot-every 4 -o " + rec);
     REQUIRE(r.exitCode == 0);
     const auto summary = nlohmann::json::parse(r.out);
     CHECK(summary["steps"] == 12);
     CHECK(summary["snapshots"] == 4);  // ticks 0, 4, 8, 12
-    const Run v = unison("verify " + rec);
+    const Run v = cli("verify " + rec);
     CHECK(v.exitCode == 0);
     CHECK(nlohmann::json::parse(v.out)["status"] == "match");
-    // Replaying with a changed input: exit 1, the report names tick 6 and a differing field.
-    const Run d = unison("verify " + rec + " --inputs " + changed);
+    // Replaying with a changed input: exit 1 at tick 6; with --keep-going the report names a differing field at the
+    // next snapshot.
+    const Run stop = cli("verify " + rec + " --inputs " + changed);
+    CHECK(stop.exitCode == 1);
+    CHECK(nlohmann::json::parse(stop.out)["first_desync_tick"] == 6);
+    CHECK(nlohmann::json::parse(stop.out)["ticks"] == 6);
+    const Run d = cli("verify " + rec + " --inputs " + changed + " --keep-going");
     CHECK(d.exitCode == 1);
     const auto report = nlohmann::json::parse(d.out);
     CHECK(report["first_desync_tick"] == 6);
@@ -273,15 +215,15 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
     CHECK(report["differences"].size() > 0);
     CHECK(d.err.find("desync at tick 6") != std::string::npos);
     // `run` and `record` (without inputs) hash the same state.
-    const Run s5 = unison("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
+    const Run s5 = cli("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
     REQUIRE(s5.exitCode == 0);
-    const Run r5 = unison("record " + scene + " --steps 5 -o " + rec);
+    const Run r5 = cli("record " + scene + " --steps 5 -o " + rec);
     REQUIRE(r5.exitCode == 0);
     CHECK(nlohmann::json::parse(r5.out)["final_hash"] ==
           nlohmann::json::parse(s5.out)["hash"]);  // one line: the final object
-    REQUIRE(unison("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
-    CHECK(unison("diff " + a + " " + a).exitCode == 0);
-    const Run df = unison("diff " + a + " " + b);
+    REQUIRE(cli("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
+    CHECK(cli("diff " + a + " " + a).exitCode == 0);
+    const Run df = cli("diff " + a + " " + b);
     CHECK(df.exitCode == 1);
     CHECK(nlohmann::json::parse(df.out)["differences"][0]["field"] == "stepCount");
     // Bad input: exit 2 with a message.
@@ -297,7 +239,7 @@ TEST_CASE("record, verify, diff and run --snapshot-at: files, reports and exit c
         const auto& args = item.first;  // no structured binding: clang 14 cannot CAPTURE one
         const auto& fragment = item.second;
         CAPTURE(args);
-        const Run e = unison(args);
+        const Run e = cli(args);
         CHECK(e.exitCode == 2);
         CHECK(e.err.find(fragment) != std::string::npos);
     }
@@ -314,13 +256,13 @@ TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh i
         {"tick": 7, "type": "set_gravity", "gravity": [0, -9, 0.6]}]})");
     const std::string flat = writeTemp("inputs3flat.json", R"({"inputs": [{"tick": 1, "type": "set_gravity", "gravity": [0, -9]}]})");
     const std::string rec = tempPath("m3.urec"), a = tempPath("a3.usnap"), b = tempPath("b3.usnap");
-    const Run r = unison("record " + scene + " --inputs " + inputs + " --steps 12 --snapshot-every 4 -o " + rec);
+    const Run r = cli("record " + scene + " --inputs " + inputs + " --steps 12 --snapshot-every 4 -o " + rec);
     REQUIRE_MESSAGE(r.exitCode == 0, r.err);
     CHECK(nlohmann::json::parse(r.out)["snapshots"] == 4);
-    const Run v = unison("verify " + rec);
+    const Run v = cli("verify " + rec);
     CHECK(v.exitCode == 0);
     CHECK(nlohmann::json::parse(v.out)["status"] == "match");
-    const Run d = unison("verify " + rec + " --inputs " + changed);
+    const Run d = cli("verify " + rec + " --inputs " + changed + " --keep-going");
     CHECK(d.exitCode == 1);
     const auto report = nlohmann::json::parse(d.out);
     CHECK(report["first_desync_tick"] == 7);
@@ -328,19 +270,19 @@ TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh i
     CHECK(report["differences"].size() > 0);
     CHECK(d.err.find("desync at tick 7") != std::string::npos);
     // `run --snapshot-at` and `record` hash the same 3D state; diff names the step count first.
-    const Run s5 = unison("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
+    const Run s5 = cli("run " + scene + " --steps 5 --snapshot-at 5 -o " + a);
     REQUIRE(s5.exitCode == 0);
-    const Run r5 = unison("record " + scene + " --steps 5 -o " + rec);
+    const Run r5 = cli("record " + scene + " --steps 5 -o " + rec);
     REQUIRE(r5.exitCode == 0);
     CHECK(nlohmann::json::parse(r5.out)["final_hash"] == nlohmann::json::parse(s5.out)["hash"]);
-    REQUIRE(unison("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
-    CHECK(unison("diff " + a + " " + a).exitCode == 0);
-    const Run df = unison("diff " + a + " " + b);
+    REQUIRE(cli("run " + scene + " --steps 5 --snapshot-at 4 -o " + b).exitCode == 0);
+    CHECK(cli("diff " + a + " " + a).exitCode == 0);
+    const Run df = cli("diff " + a + " " + b);
     CHECK(df.exitCode == 1);
     CHECK(nlohmann::json::parse(df.out)["differences"][0]["field"] == "stepCount");
     // 2D inputs for a 3D scene, and a 2D snapshot against a 3D one: exit 2.
     const std::string flatSnap = tempPath("flat.usnap");
-    REQUIRE(unison("run " + std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json --steps 1 --snapshot-at 1 -o " + flatSnap).exitCode == 0);
+    REQUIRE(cli("run " + std::string(UNISON_SOURCE_DIR) + "/scenes/cradle.json --steps 1 --snapshot-at 1 -o " + flatSnap).exitCode == 0);
     const std::pair<std::string, const char*> bad[] = {
         {"record " + scene + " --inputs " + flat + " -o " + b, "gravity"},
         {"diff " + a + " " + flatSnap, "kind"},
@@ -348,7 +290,7 @@ TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh i
     for (const auto& item : bad) {
         const std::string& args = item.first;
         CAPTURE(args);
-        const Run e = unison(args);
+        const Run e = cli(args);
         CHECK(e.exitCode == 2);
         CHECK(e.err.find(item.second) != std::string::npos);
     }
@@ -357,7 +299,7 @@ TEST_CASE("record, verify, diff and run --snapshot-at for a 3D scene (OBJ mesh i
 
 TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; bad 3D scenes exit 2") {
     const std::string scene = std::string(UNISON_SOURCE_DIR) + "/scenes/mixed3d.json";
-    const Run r = unison("run " + scene + " --steps 120 --hash-every 60");
+    const Run r = cli("run " + scene + " --steps 120 --hash-every 60");
     REQUIRE(r.exitCode == 0);
     const std::vector<nlohmann::json> lines = jsonLines(r.out);
     REQUIRE(lines.size() == 3);
@@ -373,7 +315,7 @@ TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; ba
     const nlohmann::json& st = fin["stats"];
     CHECK(st["basis_change"].get<int>() > 0);
     if (st["discarded_guesses"].get<int>() == 0) CHECK(2 * st["total_pivots"].get<int>() >= st["basis_change"].get<int>());
-    CHECK(withoutTimes(unison("run " + scene + " --steps 120 --hash-every 60").out) == withoutTimes(r.out));
+    CHECK(withoutTimes(cli("run " + scene + " --steps 120 --hash-every 60").out) == withoutTimes(r.out));
     const std::pair<const char*, const char*> bad[] = {
         {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"sphere\", \"radius\": 0}]}]}", "radius"},
         {"{\"dimension\": 3, \"bodies\": [{\"shapes\": [{\"type\": \"circle\", \"radius\": 1}]}]}", "unknown 3D shape"},
@@ -388,7 +330,7 @@ TEST_CASE("run: a 3D scene (box, hull, sphere, OBJ bunny) prints quaternions; ba
         const char* fragment = item.second;
         CAPTURE(text);
         const std::string f = writeTemp("bad_scene3d.json", text);
-        const Run b = unison("run " + f);
+        const Run b = cli("run " + f);
         CHECK(b.exitCode == 2);
         CHECK(b.err.find(fragment) != std::string::npos);
         std::remove(f.c_str());

@@ -10,7 +10,9 @@
 #include "scene_json3d.h"
 #include "state_io.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -133,6 +135,27 @@ TEST_CASE("2D: truncated or corrupt compact states are refused, the world untouc
     std::vector<std::uint8_t> cut = bytes;
     cut.erase(cut.end() - 12, cut.end() - 8);  // the last 4 bytes of the touching pairs
     refused(resealed(cut), cut.size(), "compact state");
+    // Non-finite numbers behind a valid checksum: the gravity (right after the format byte and the one-byte step
+    // count) and a body's position (found by its bytes).
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<std::uint8_t> badGravity = bytes;
+    std::memcpy(&badGravity[2], &nan, 8);
+    refused(resealed(badGravity), badGravity.size(), "gravity is not finite");
+    World2 saved = pyramid(5);
+    for (int t = 0; t < 40; ++t) saved.step();
+    double x = 0.0;
+    for (const BodyId id : saved.bodyIds())
+        if (saved.info(id)->type == BodyType::dynamicBody) {
+            x = saved.state(id)->position.x;
+            break;
+        }
+    std::uint8_t xBytes[8];
+    std::memcpy(xBytes, &x, 8);
+    const auto at = std::search(bytes.begin(), bytes.end(), xBytes, xBytes + 8);
+    REQUIRE(at != bytes.end());
+    std::vector<std::uint8_t> badPose = bytes;
+    std::memcpy(&badPose[std::size_t(at - bytes.begin())], &nan, 8);
+    refused(resealed(badPose), badPose.size(), "not finite");
     REQUIRE(world.restoreCompact(bytes.data(), bytes.size()));
 }
 

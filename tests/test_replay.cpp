@@ -267,11 +267,19 @@ TEST_CASE("a tampered input: the desync report names its tick, the body and the 
     CHECK(js["differences"].size() <= 5);
     CHECK(reportSummary(report).find("desync at tick 5") == 0);
 
-    // With snapshots every 10 ticks the tick is still exact; the fields come from the next snapshot (tick 10).
+    // With snapshots every 10 ticks the tick is still exact; verify stops there (no snapshot at tick 12, so no
+    // fields), and when asked to keep going the fields come from the next snapshot (tick 20).
     Recording sparse = record(golden("mixed_pile").scene, pileInputs(), 40, 10);
     sparse.inputs.actions[1].angularVelocity = 2.0;  // the set_velocity of tick 12
-    const VerifyReport r2 = verify(sparse);
+    const VerifyReport stopped = verify(sparse);
+    CHECK(stopped.firstTick == 12);
+    CHECK(stopped.ticks == 12);
+    CHECK(stopped.comparedTick == -1);
+    CHECK(stopped.differences.empty());
+    CHECK(reportSummary(stopped).find("--keep-going") != std::string::npos);
+    const VerifyReport r2 = verify(sparse, true);
     CHECK(r2.firstTick == 12);
+    CHECK(r2.ticks == 20);
     CHECK(r2.comparedTick == 20);
     CHECK_FALSE(r2.differences.empty());
 

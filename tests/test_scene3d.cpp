@@ -36,7 +36,7 @@ TEST_CASE("OBJ: vertices, faces in every index form, polygons fanned; errors nam
 }
 
 TEST_CASE("the bunny asset is a closed mesh; its sphere tree and mass load") {
-    const scenes::ObjMesh m = scenes::readObj(std::string(UNISON_SOURCE_DIR) + "/samples/assets/bunny.obj", 0.05);
+    const scenes::ObjMesh m = scenes::readObj(std::string(UNISON_SOURCE_DIR) + "/scenes/bunny.obj", 0.05);
     Shape3 s;
     REQUIRE(makeMesh(m.vertices, m.triangles, &s).empty());
     const MassData3 md = computeMass(s);

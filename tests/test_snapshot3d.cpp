@@ -96,7 +96,7 @@ TEST_CASE("a 3D snapshot restores every shape type and continues bit-identically
 
 TEST_CASE("bodies sharing one mesh share it after a restore, and the snapshot holds it once") {
     const std::string dir = scenes::sceneDir();
-    const nlohmann::json scene = scenes::bunnies3Scene(dir + "/../samples/assets/bunny.obj", 0.05, 2, false);
+    const nlohmann::json scene = scenes::bunnies3Scene(dir + "/bunny.obj", 0.05, 2, false);
     scenes::LoadedScene3 two = scenes::loadScene3(scene, "b2");
     // The loader reads the obj file once per shape, so make the two bunnies share one mesh the way a program would.
     std::vector<const TriangleMesh*> meshes;

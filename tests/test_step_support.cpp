@@ -54,4 +54,26 @@ TEST_CASE("cache lookup ignores the mask; events are begin = now - before, end =
     CHECK(touchId(touchKey(c)) == c);
 }
 
+TEST_CASE("duplicate cache keys: the first in step order survives, whatever the order of the others") {
+    // Three entries share one key with masks 4, 1, 2; another key sits between them in the input. Every rotation of
+    // the input keeps exactly one entry per key, and it is the first of its key in the given order.
+    const std::vector<ContactKey> base{{3, 1, 0, 0, 7, 4}, {1, 2, 0, 0, 9, 8}, {3, 1, 0, 0, 7, 1}, {3, 1, 0, 0, 7, 2}};
+    for (std::size_t r = 0; r < base.size(); ++r) {
+        std::vector<ContactKey> entries = base;
+        std::rotate(entries.begin(), entries.begin() + std::ptrdiff_t(r), entries.end());
+        std::uint32_t firstMask = 0;
+        for (const ContactKey& e : entries)
+            if (e.slotA == 3) {
+                firstMask = e.basicMask;
+                break;
+            }
+        WarmStartCache cache;
+        cache.replace(entries);
+        REQUIRE(cache.entries().size() == 2);
+        CHECK(cache.entries()[0].slotA == 1);
+        CHECK(cache.entries()[1].basicMask == firstMask);
+        CHECK(cache.entries()[0] < cache.entries()[1]);
+    }
+}
+
 }  // TEST_SUITE

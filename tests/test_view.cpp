@@ -173,7 +173,8 @@ TEST_CASE("unison view and verify --report: files written; bad input exits 2") {
     changed["inputs"][0]["impulse"][1] = 5.001;
     const std::string inputs = dir + "changed.json";
     std::ofstream(inputs) << changed.dump();
-    const test::ProcessRun verify = test::runProgram(UNISON_CLI_PATH, "verify " + rec + " --inputs " + inputs + " --report " + reportFile);
+    const test::ProcessRun verify =
+        test::runProgram(UNISON_CLI_PATH, "verify " + rec + " --inputs " + inputs + " --keep-going --report " + reportFile);
     REQUIRE(verify.exitCode == 1);
     const nlohmann::json printed = nlohmann::json::parse(verify.out);
     const nlohmann::json written = nlohmann::json::parse(test::readWhole(reportFile));

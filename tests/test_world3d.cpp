@@ -479,7 +479,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
     CHECK(world.state(id)->angularVelocity.norm() < 1e-9);
 
     // The sample's scene: mixed friction sqrt(0.5 * 0.2) = 0.32 < tan(0.35) = 0.37, so the bunnies slide off.
-    auto loaded = scenes::loadScene3(scenes::bunnies3Scene(std::string(UNISON_SOURCE_DIR) + "/samples/assets/bunny.obj", 0.05, 2), "bunnies");
+    auto loaded = scenes::loadScene3(scenes::bunnies3Scene(std::string(UNISON_SOURCE_DIR) + "/scenes/bunny.obj", 0.05, 2), "bunnies");
     int failed = 0, maxContacts = 0;
     for (int i = 0; i < 600; ++i) {
         loaded.world->step();
