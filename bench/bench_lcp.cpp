@@ -11,7 +11,7 @@
 //
 // Usage: bench_lcp [--quick] [--json FILE] [--filter SUBSTRING]
 #include "bench_lcp_manifolds.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 #include "lcp_families.h"
 #include "siconos_peer.h"
 

@@ -1,7 +1,7 @@
 // bench/bench_lcp_manifolds.h — bench_lcp's table of contact LCPs from Box2D 2.4.1's manifolds (see the .cpp).
 #pragma once
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <nlohmann/json.hpp>
 

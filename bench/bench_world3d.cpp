@@ -1,5 +1,5 @@
 // bench/bench_world3d.cpp — Unison's World3 against Bullet 3.24 (double precision) on the same 3D scenes, in one
-// run (issue 5): Bullet's sequential-impulse solver (SI) and Bullet's MLCP solver with btLemkeSolver.
+// run: Bullet's sequential-impulse solver (SI) and Bullet's MLCP solver with btLemkeSolver.
 //
 // Scenes (scenes/make_scenes3d, sleeping off so every engine does the full work every step):
 //   stack   5 cubes of 1 m: resting centre heights after the run. Tolerance: every cube within 2 cm of Bullet SI's.

@@ -25,7 +25,7 @@
 
 #include "contact_resolver.h"
 #include "dim2.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <nlohmann/json.hpp>
 

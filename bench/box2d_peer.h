@@ -1,6 +1,6 @@
 // bench/box2d_peer.h — Box2D 2.4.1 (libbox2d-dev) as a benchmark and validation peer of the 2D world.
 //
-// Owns: a b2World built from the same scene JSON that scenes::loadScene2 reads (README "Scene format"), and the map
+// Owns: a b2World built from the same scene JSON that scenes::loadScene2 reads (docs/formats.md), and the map
 // from scene body index to b2Body*. The translation is one to one: gravity; bodies (static / kinematic / dynamic,
 // origin, angle, centre-of-mass and angular velocity); shapes (circle -> b2CircleShape centred at `center`; box -> SetAsBox(hx, hy, center,
 // angle); polygon -> Set(vertices); segment -> two-sided b2EdgeShape) with their density, friction and restitution;

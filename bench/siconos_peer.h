@@ -9,7 +9,7 @@
 // with a residual recomputed from (A, b, z), as the benchmark does.
 #pragma once
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <vector>
 

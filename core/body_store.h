@@ -1,6 +1,6 @@
 // core/body_store.h — generational body handles over dense, packed storage, shared by the 2D and 3D worlds.
 //
-// Owns: BodyId (the public handle), the slot table that maps handles to dense indices, the free list, and two
+// Owns: the slot table (BodyId, the public handle, is in unison/types.h) that maps handles to dense indices, the free list, and two
 // dense arrays per body: Hot (what the solver reads and writes every step) and Cold (everything else). The solver
 // iterates hotArray() directly, so live bodies are always packed at dense indices [0, size()).
 // Invariants (checked by restore() and by tests/test_body_store.cpp after every operation):
@@ -15,6 +15,8 @@
 // hold BodyIds, not dense indices, across destroy() calls.
 #pragma once
 
+#include <unison/types.h>
+
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -22,27 +24,12 @@
 
 namespace unison {
 
-/// Public handle of a body: slot + 1 and the slot's generation when the body was created. Zero index means null.
-struct BodyId {
-    std::uint32_t index1 = 0;      ///< slot index + 1; 0 for the null id
-    std::uint32_t generation = 0;  ///< generation of the slot at creation; a stale id has an older one
-
-    /// True for the null id (index1 == 0).
-    bool isNull() const { return index1 == 0; }
-    /// The null id, returned when no body could be created.
-    static BodyId null() { return BodyId{}; }
-};
-
-/// Handles are equal when slot and generation both match.
-inline bool operator==(BodyId a, BodyId b) { return a.index1 == b.index1 && a.generation == b.generation; }
-/// Negation of operator==.
-inline bool operator!=(BodyId a, BodyId b) { return !(a == b); }
-
 /// One entry of the slot table (8 bytes, no padding, so it can be hashed field by field or byte by byte).
 struct BodySlot {
     std::uint32_t generation = 0;  ///< current generation of the slot (>= 1 once the slot exists)
     std::int32_t dense = -1;       ///< dense index of the live body, -1 when the slot is free
 };
+static_assert(sizeof(BodySlot) == 8, "BodySlot is hashed and stored as two 32-bit fields");
 
 /// Dense storage of bodies with generational handles. Hot and Cold are copyable value types.
 template <class Hot, class Cold>

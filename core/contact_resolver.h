@@ -13,7 +13,7 @@
 // function of the input (no pointer order, no hash order).
 #pragma once
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <vector>
 

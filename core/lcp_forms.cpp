@@ -1,6 +1,6 @@
 // core/lcp_forms.cpp — the LCP data forms around the solver: status names, the complementarity residual, and the
 // conversions between triplets, dense and compressed-row matrices.
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "block_factor.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <Eigen/SparseCore>
 

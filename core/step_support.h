@@ -44,6 +44,7 @@ struct ContactKey {
         return slotA == o.slotA && slotB == o.slotB && shapeA == o.shapeA && shapeB == o.shapeB && feature == o.feature;
     }
 };
+static_assert(sizeof(ContactKey) == 56, "ContactKey changed: serialise the new field in both worlds' state files");
 
 /// Previous-step contacts, sorted by key.
 class WarmStartCache {
@@ -139,11 +140,6 @@ std::string stepFault(const Store& bodies, std::uint64_t step, Check motionProbl
 inline std::uint64_t touchKey(BodyId id) { return (std::uint64_t(id.generation) << 32) | id.index1; }
 /// Body id of a touchKey.
 BodyId touchId(std::uint64_t key);
-
-/// Two bodies started (begin) or stopped (end) touching.
-struct TouchEvent {
-    BodyId a, b;
-};
 
 /// Touching body pairs (a < b by touchKey), sorted and unique.
 using TouchPairs = std::vector<std::pair<std::uint64_t, std::uint64_t>>;

@@ -23,7 +23,7 @@
 
 #include "contact_resolver.h"
 #include "island.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 #include "pgs.h"
 #include "step_budget.h"
 #include "step_support.h"

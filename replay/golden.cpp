@@ -3,6 +3,7 @@
 
 #include "make_scenes2d.h"
 #include "make_scenes3d.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "scene_json3d.h"
 #include "state_io.h"

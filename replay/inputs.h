@@ -1,4 +1,4 @@
-// replay/inputs.h — the per-tick inputs of a recorded match (README "Inputs JSON") and the session that applies
+// replay/inputs.h — the per-tick inputs of a recorded match (docs/formats.md) and the session that applies
 // them to a 2D or 3D world, tick by tick, identically when recording and when verifying.
 //
 // Owns: InputAction (one input), InputScript (all inputs of a match, ordered by tick, file order within a tick),
@@ -51,7 +51,7 @@ struct InputScript {
 /// 3 for a scene with "dimension": 3, else 2.
 int sceneDimension(const nlohmann::json& scene);
 
-/// Parses {"inputs": [{"tick", "type", ...}]} (README "Inputs JSON") for a scene of `dimension` (2 or 3: the size of
+/// Parses {"inputs": [{"tick", "type", ...}]} (docs/formats.md) for a scene of `dimension` (2 or 3: the size of
 /// every vector; in 3D angular_velocity is a 3-vector and body_def a 3D scene body); `what` names the source.
 /// Throws ReplayError.
 InputScript parseInputs(const nlohmann::json& js, const std::string& what, int dimension = 2);

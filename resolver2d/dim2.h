@@ -14,6 +14,7 @@ struct Vec2 {
     double y = 0.0;
     double operator[](int i) const { return i == 0 ? x : y; }
 };
+static_assert(sizeof(Vec2) == 16, "Vec2 is two doubles");
 
 inline Vec2 operator+(Vec2 a, Vec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline Vec2 operator-(Vec2 a, Vec2 b) { return {a.x - b.x, a.y - b.y}; }

@@ -100,6 +100,7 @@ struct Shape2 {
     double friction = 0.6;               ///< Coulomb coefficient
     double restitution = 0.0;            ///< coefficient of restitution e
 };
+static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field (world2d_state.cpp)");
 
 /// A Shape2 holding `c` with default material.
 Shape2 toShape(const Circle& c);

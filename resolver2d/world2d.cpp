@@ -73,12 +73,14 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
     }
     const BodyId id = mBodies.create(state, info);
     if (id.isNull()) return fail("world: body capacity reached");
+    mIndex->invalidate();
     return id;
 }
 
 bool World2::destroyBody(BodyId id) {
     if (!mBodies.destroy(id)) return false;
     mStep.cache.forgetSlot(id.index1);
+    mIndex->invalidate();
     return true;
 }
 
@@ -166,6 +168,7 @@ void World2::step() { step(mDef.stepBudget); }
 
 void World2::step(std::uint64_t budget) {
     if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
+    mIndex->invalidate();
     Hooks hooks{*this};
     mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
     mContactPoints.clear();

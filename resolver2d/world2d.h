@@ -14,21 +14,23 @@
 #include "collide2d.h"
 #include "dim2.h"
 #include "input_policy.h"
-#include "lcp.h"
+#include <unison/lcp.h>
+#include "query2d.h"
+#include "scene_index.h"
 #include "shapes2d.h"
 #include "state_io.h"
 #include "world_step.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace unison {
 
 class CompactState;
-
-enum class BodyType : std::uint8_t { staticBody, kinematicBody, dynamicBody };
 
 /// How to create a body. Angles in radians, velocities in m/s and rad/s.
 struct BodyDef2 {
@@ -82,8 +84,9 @@ struct WorldDef2 {
     FinishTaskCallback* finishTask = nullptr;
     void* userTaskContext = nullptr;  ///< passed to enqueueTask and finishTask
 };
+static_assert(sizeof(WorldDef2) == 208, "WorldDef2 changed: serialise the new field (world2d_state.cpp)");
 
-/// Hot per-body state: the only thing the solver writes. 64 bytes.
+/// Hot per-body state: the only thing the solver writes. 80 bytes, no implicit padding.
 struct BodyState2 {
     Vec2 position;       ///< body origin (m)
     Rot2 rotation;       ///< cosine/sine of the body angle
@@ -92,6 +95,7 @@ struct BodyState2 {
     double angularVelocity = 0.0;  ///< rad/s
     double pad = 0.0;    ///< keeps the struct free of implicit padding (always 0)
 };
+static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field (world2d_state.cpp)");
 
 /// Cold per-body data.
 struct BodyInfo2 {
@@ -102,6 +106,7 @@ struct BodyInfo2 {
     double sleepTime = 0.0;            ///< s spent below the sleep tolerances
     bool awake = true;
 };
+static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field (world2d_state.cpp)");
 
 /// A contact point after the step (for events, drawing and tests).
 struct ContactPoint2 {
@@ -194,8 +199,23 @@ public:
     /// otherwise. The last step's contacts, events and statistics stay those of the last step() call.
     bool restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
 
+    // Scene queries (resolver2d/query2d.cpp): exact on every shape type, answers in a total order (core/
+    // scene_index.h); a non-finite argument or a zero ray translation gives no answer.
+    /// The first shape the segment origin -> origin + translation (m) meets; false when it meets none.
+    bool rayCastClosest(Vec2 origin, Vec2 translation, RayHit2* out) const;
+    /// Every shape the segment meets, by (fraction, body slot, shape index).
+    std::vector<RayHit2> rayCastAll(Vec2 origin, Vec2 translation) const;
+    /// Every shape whose bounding box overlaps `box` (touching counts), by (body slot, shape index).
+    std::vector<ShapeRef> overlapAabb(const Aabb2& box) const;
+    /// Every shape that shares interior points with `shape` placed by xf, by (body slot, shape index).
+    std::vector<ShapeRef> overlapShape(const Shape2& shape, const Transform2& xf) const;
+
 private:
     struct Hooks;  // what core/world_step.h needs of this world (world2d.cpp)
+    const SceneIndex<2>& sceneIndex() const;
+    std::pair<const Shape2&, Transform2> placedShape(const ShapeRef& ref) const;
+    template <class Visit>
+    void castRay(Vec2 origin, Vec2 translation, bool closest, Visit&& visit) const;
     void updateBodyCenter(BodyState2& s, const BodyInfo2& info) const;
     // The one canonical serialiser (world2d_state.cpp): writes the state of a const World2 into a sink, or reads it
     // into a non-const one.
@@ -211,6 +231,7 @@ private:
     std::vector<ContactPoint2> mContactPoints;
     std::uint64_t mStepCount = 0;
     std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
+    std::unique_ptr<SceneIndex<2>> mIndex = std::make_unique<SceneIndex<2>>();  // derived from the bodies, never hashed
 };
 
 }  // namespace unison

@@ -22,14 +22,9 @@
 
 namespace unison {
 
-// If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
-// (and to the snapshot format version if old snapshots can no longer be read), and to CompactFields2 if a tick can
-// change it, then update the size here.
-static_assert(sizeof(WorldDef2) == 208, "WorldDef2 changed: serialise the new field in transferState() (or say why it is not state)");
-static_assert(sizeof(BodyState2) == 80, "BodyState2 changed: serialise the new field in transferState()");
-static_assert(sizeof(BodyInfo2) == 96, "BodyInfo2 changed: serialise the new field in transferState()");
-static_assert(sizeof(Shape2) == 368, "Shape2 changed: serialise the new field in transferState()");
-static_assert(sizeof(ContactKey) == 56, "ContactKey changed: serialise the new field in transferState()");
+// Each struct that is part of the state has a static_assert of its size next to it: when one fails, a field was
+// added; add it to transferState() below (and to the snapshot format version if old snapshots can no longer be
+// read), and to CompactFields2 if a tick can change it, then update the size there.
 
 namespace {
 
@@ -199,6 +194,7 @@ void World2::saveCompact(CompactState& out) const {
 }
 
 bool World2::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
+    mIndex->invalidate();
     if (!unison::restoreCompact<CompactFields2>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
         return false;
     // A compact state is checked by its checksum only (it is this process's own rollback state); should its values

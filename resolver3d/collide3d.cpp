@@ -270,7 +270,15 @@ Manifold3 clipFaces(const WorldPoly& ref, int refFace, const WorldPoly& inc, boo
         const Vec3 mid = D3::sub(cv.p, D3::scale(0.5 * sep, nRef));
         std::uint32_t id = cv.side == 0xFF ? convexId(kFaceVertex, refFace, cv.inc, 0xFF)
                                            : convexId(kFaceClip, refFace, cv.inc, cv.side);
-        cands.push_back({mid, normal, sep, flip ? id | kFlip : id});
+        if (flip) id |= kFlip;
+        // A clip point is named by the incident vertex its edge started from and the side plane that cut it; on a
+        // face of more than 4 sides two points can get the same name (an edge that starts at an earlier clip point
+        // keeps that point's vertex). Ids must be unique within a manifold (they key the warm-start cache), so a
+        // repeated one takes the next free side value from the top of the byte, in clipping order.
+        for (std::uint32_t spare = 0xFE; std::any_of(cands.begin(), cands.end(), [&](const ManifoldPoint3& c) { return c.id == id; });
+             --spare)
+            id = (id & ~0xFFu) | spare;
+        cands.push_back({mid, normal, sep, id});
     }
     return finish(cands, outCandidates);
 }

@@ -37,6 +37,8 @@ inline std::uint32_t vertexId(Kind kind, int vertex) { return (std::uint32_t(kin
 
 inline double norm(const Vec3& v) { return std::sqrt(D3::dot(v, v)); }
 inline Vec3 neg(const Vec3& v) { return D3::scale(-1.0, v); }
+/// Closest point of triangle (a, b, c) to p.
+Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 /// Reduces candidates to at most 4 (reduceToFour) and fills a manifold; appends them to outCandidates if given.
 Manifold3 finish(const std::vector<ManifoldPoint3>& cands, std::vector<ManifoldPoint3>* outCandidates);

@@ -7,7 +7,6 @@
 
 namespace unison {
 namespace collide3d_detail {
-namespace {
 
 // Closest point of triangle (a, b, c) to p (Voronoi regions of vertices, edges, face).
 Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -30,6 +29,8 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
     const double den = 1.0 / (va + vb + vc);
     return D3::add(a, D3::add(D3::scale(vb * den, ab), D3::scale(vc * den, ac)));
 }
+
+namespace {
 
 // Corners of polyhedron b (or sphere b) against the triangles of mesh a, through a's triangle tree: the part of the
 // contact the mesh's own vertices cannot see (a box corner on a big flat triangle). Each point meets only its nearest

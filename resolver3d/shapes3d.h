@@ -27,6 +27,7 @@ namespace unison {
 struct Quat {
     double w = 1.0, x = 0.0, y = 0.0, z = 0.0;
 };
+static_assert(sizeof(Quat) == 32, "Quat is four doubles");
 
 /// The rotation matrix of q (q need not be exactly unit: it is used as stored).
 Mat3 toMatrix(const Quat& q);
@@ -79,6 +80,7 @@ struct ConvexPolyhedron {
     std::vector<Edge> edges;
     Vec3 centroid = Vec3::Zero();  ///< mean of the vertices (an interior point)
 };
+static_assert(sizeof(ConvexPolyhedron) == 96, "ConvexPolyhedron changed: serialise the new field (world3d_state.cpp)");
 
 /// A node of a bounding-sphere hierarchy. Every node owns the items order[first .. first + count) of its tree.
 struct SphereNode {
@@ -106,6 +108,7 @@ struct TriangleMesh {
     double meanEdge = 0.0;                      ///< mean edge length (m): the surface's sampling spacing
     int leafSize = 8;                           ///< makeMesh's leafSize (snapshots rebuild the trees with it)
 };
+static_assert(sizeof(TriangleMesh) == 208, "TriangleMesh changed: serialise the new field (world3d_state.cpp)");
 
 enum class ShapeType3 : std::uint8_t { sphere, box, hull, plane, mesh };
 
@@ -123,6 +126,7 @@ struct Shape3 {
     double friction = 0.6;
     double restitution = 0.0;
 };
+static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field (world3d_state.cpp)");
 
 /// Shape builders: an empty string on success, else a message (and *out untouched).
 std::string makeSphere(const Vec3& center, double radius, Shape3* out);

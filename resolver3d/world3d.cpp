@@ -34,8 +34,8 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
     info.type = def.type;
     info.shapes = shapes;
     for (const Shape3& s : shapes)
-        if (s.type == ShapeType3::plane && def.type != BodyType3::staticBody) return fail("body: planes must be static");
-    if (def.type == BodyType3::dynamicBody) {
+        if (s.type == ShapeType3::plane && def.type != BodyType::staticBody) return fail("body: planes must be static");
+    if (def.type == BodyType::dynamicBody) {
         // Mass, centre and inertia of the union: inertia about the body origin by the parallel axis theorem, then
         // moved to the centre of mass.
         double mass = 0.0;
@@ -64,18 +64,20 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
     state.position = def.position;
     state.rotation = normalized(q);
     state.center = transformPoint(Transform3{state.position, toMatrix(state.rotation)}, info.localCenter);
-    if (def.type != BodyType3::staticBody) {
+    if (def.type != BodyType::staticBody) {
         state.velocity = def.linearVelocity;
         state.angularVelocity = def.angularVelocity;
     }
     const BodyId id = mBodies.create(state, info);
     if (id.isNull()) return fail("world: body capacity reached");
+    mIndex->invalidate();
     return id;
 }
 
 bool World3::destroyBody(BodyId id) {
     if (!mBodies.destroy(id)) return false;
     mStep.cache.forgetSlot(id.index1);
+    mIndex->invalidate();
     return true;
 }
 
@@ -95,7 +97,7 @@ bool World3::setVelocity(BodyId id, const Vec3& v, const Vec3& w) {
     };
     if (d < 0 || !within(v, policy::kMaxSpeed) || !within(w, policy::kMaxAngularSpeed)) return false;
     BodyInfo3& info = mBodies.cold(d);
-    if (info.type == BodyType3::staticBody) return false;
+    if (info.type == BodyType::staticBody) return false;
     mBodies.hot(d).velocity = v;
     mBodies.hot(d).angularVelocity = w;
     info.awake = true;
@@ -109,7 +111,7 @@ bool World3::applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint
                        policy::within(impulse.z(), policy::kMaxImpulse);
     if (d < 0 || !small || !D3::finite(worldPoint)) return false;
     BodyInfo3& info = mBodies.cold(d);
-    if (info.type != BodyType3::dynamicBody) return false;
+    if (info.type != BodyType::dynamicBody) return false;
     BodyState3& s = mBodies.hot(d);
     const Mat3 invI = rotateTensor(toMatrix(s.rotation), info.invInertia);  // world-frame I^-1 = R I_b^-1 R^T
     s.velocity = D3::add(s.velocity, D3::scale(info.invMass, impulse));
@@ -178,6 +180,7 @@ void World3::step() { step(mDef.stepBudget); }
 
 void World3::step(std::uint64_t budget) {
     if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
+    mIndex->invalidate();
     mCandidates.clear();
     Hooks hooks{*this};
     mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});

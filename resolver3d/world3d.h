@@ -14,26 +14,27 @@
 #include "body_store.h"
 #include "collide3d.h"
 #include "input_policy.h"
-#include "lcp.h"
+#include <unison/lcp.h>
+#include "query3d.h"
+#include "scene_index.h"
 #include "shapes3d.h"
 #include "state_io.h"
 #include "step_support.h"
 #include "world_step.h"
 
 #include <cstdint>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace unison {
 
 class CompactState;
 
-/// Body kinds of the 3D world (static: never moves; kinematic: moves with its velocity, infinite mass).
-enum class BodyType3 : std::uint8_t { staticBody, kinematicBody, dynamicBody };
-
 /// How to create a body. Velocities in m/s and rad/s (world axes).
 struct BodyDef3 {
-    BodyType3 type = BodyType3::dynamicBody;
+    BodyType type = BodyType::dynamicBody;
     Vec3 position = Vec3::Zero();        ///< origin of the body frame (m)
     Quat orientation;                    ///< unit quaternion (normalised on creation)
     Vec3 linearVelocity = Vec3::Zero();  ///< of the centre of mass
@@ -94,6 +95,7 @@ struct WorldDef3 {
     FinishTaskCallback* finishTask = nullptr;
     void* userTaskContext = nullptr;  ///< passed to enqueueTask and finishTask
 };
+static_assert(sizeof(WorldDef3) == 224, "WorldDef3 changed: serialise the new field (world3d_state.cpp)");
 
 /// Hot per-body state: the only thing the solver writes. 16 doubles, 128 bytes, no padding.
 struct BodyState3 {
@@ -103,10 +105,11 @@ struct BodyState3 {
     Vec3 velocity = Vec3::Zero();         ///< centre-of-mass velocity (m/s)
     Vec3 angularVelocity = Vec3::Zero();  ///< rad/s, world axes
 };
+static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field (world3d_state.cpp)");
 
 /// Cold per-body data.
 struct BodyInfo3 {
-    BodyType3 type = BodyType3::dynamicBody;
+    BodyType type = BodyType::dynamicBody;
     double mass = 0.0, invMass = 0.0;        ///< kg, 1/kg
     Mat3 inertia = Mat3::Zero();             ///< about the centre of mass, body axes (kg m^2)
     Mat3 invInertia = Mat3::Zero();          ///< its inverse (body axes)
@@ -115,6 +118,7 @@ struct BodyInfo3 {
     double sleepTime = 0.0;                  ///< s spent below the sleep tolerances
     bool awake = true;
 };
+static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field (world3d_state.cpp)");
 
 /// A contact point after the step (for events, drawing and tests).
 struct ContactPoint3 {
@@ -215,8 +219,25 @@ public:
     /// otherwise. The last step's contacts, events and statistics stay those of the last step() call.
     bool restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
 
+    // Scene queries (resolver3d/query3d.cpp): exact on every shape type, answers in a total order (core/
+    // scene_index.h); a non-finite argument or a zero ray translation gives no answer.
+    /// The first shape the segment origin -> origin + translation (m) meets; false when it meets none.
+    bool rayCastClosest(const Vec3& origin, const Vec3& translation, RayHit3* out) const;
+    /// Every shape the segment meets, by (fraction, body slot, shape index).
+    std::vector<RayHit3> rayCastAll(const Vec3& origin, const Vec3& translation) const;
+    /// Every shape whose bounding box overlaps `box` (touching counts; a plane's box is unbounded), by (body slot,
+    /// shape index).
+    std::vector<ShapeRef> overlapAabb(const Aabb3& box) const;
+    /// Every shape that shares interior points with the convex `shape` (sphere, box or hull) placed by xf, by
+    /// (body slot, shape index); empty for a plane or mesh query shape.
+    std::vector<ShapeRef> overlapShape(const Shape3& shape, const Transform3& xf) const;
+
 private:
     struct Hooks;  // what core/world_step.h needs of this world (world3d.cpp)
+    const SceneIndex<3>& sceneIndex() const;
+    std::pair<const Shape3&, Transform3> placedShape(const ShapeRef& ref) const;
+    template <class Visit>
+    void castRay(const Vec3& origin, const Vec3& translation, bool closest, Visit&& visit) const;
     /// The one canonical walk over the state (resolver3d/world3d_state.cpp); Self is World3 or const World3.
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
@@ -232,6 +253,7 @@ private:
     std::vector<ManifoldPoint3> mCandidates;
     std::uint64_t mStepCount = 0;
     std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
+    std::unique_ptr<SceneIndex<3>> mIndex = std::make_unique<SceneIndex<3>>();  // derived from the bodies, never hashed
 };
 
 }  // namespace unison

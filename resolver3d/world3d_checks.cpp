@@ -123,7 +123,7 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
     if (!motion.empty()) return "body: " + motion;
     const Quat& q = s.rotation;
     if (!(std::fabs(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z - 1.0) <= 1e-6)) return "body: rotation is not a unit quaternion";
-    if (info.type == BodyType3::dynamicBody) {
+    if (info.type == BodyType::dynamicBody) {
         if (!(info.mass > 0.0) || info.invMass != 1.0 / info.mass) return "body: dynamic mass must be > 0 with invMass = 1/mass";
         const Mat3& I = info.inertia;
         const std::string inertia = checkInertia3(I);
@@ -136,7 +136,7 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
     if (!(info.sleepTime >= 0.0)) return "body: sleep time must be >= 0";
     if (info.shapes.size() > policy::kMaxShapesPerBody) return "body: too many shapes";
     for (const Shape3& shape : info.shapes) {
-        if (shape.type == ShapeType3::plane && info.type != BodyType3::staticBody) return "body: planes must be static";
+        if (shape.type == ShapeType3::plane && info.type != BodyType::staticBody) return "body: planes must be static";
         const std::string why = checkShape3(shape);
         if (!why.empty()) return why;
     }

@@ -21,16 +21,9 @@
 
 namespace unison {
 
-// If one of these fails, a field was added to a struct that is part of the state: add it to transferState() below
-// (and to the snapshot format version if old snapshots can no longer be read), and to CompactFields3 if a tick can
-// change it, then update the size here.
-static_assert(sizeof(WorldDef3) == 224, "WorldDef3 changed: serialise the new field in transferState() (or say why it is not state)");
-static_assert(sizeof(BodyState3) == 128, "BodyState3 changed: serialise the new field in transferState()");
-static_assert(sizeof(BodyInfo3) == 232, "BodyInfo3 changed: serialise the new field in transferState()");
-static_assert(sizeof(Shape3) == 152, "Shape3 changed: serialise the new field in transferState()");
-static_assert(sizeof(ContactKey) == 56, "ContactKey changed: serialise the new field in transferState()");
-static_assert(sizeof(ConvexPolyhedron) == 96, "ConvexPolyhedron changed: serialise the new field in transferState()");
-static_assert(sizeof(TriangleMesh) == 208, "TriangleMesh changed: serialise the new field in transferState()");
+// Each struct that is part of the state has a static_assert of its size next to it: when one fails, a field was
+// added; add it to transferState() below (and to the snapshot format version if old snapshots can no longer be
+// read), and to CompactFields3 if a tick can change it, then update the size there.
 
 namespace {
 
@@ -201,7 +194,7 @@ void body(Io& io, Hot& s, Cold& info, SharedGeometry& shared) {
     vec3(io, "center", s.center);
     vec3(io, "velocity", s.velocity);
     vec3(io, "angularVelocity", s.angularVelocity);
-    enumeration(io, "type", info.type, int(BodyType3::dynamicBody));
+    enumeration(io, "type", info.type, int(BodyType::dynamicBody));
     io.f64("mass", info.mass);
     io.f64("invMass", info.invMass);
     mat3(io, "inertia", info.inertia);
@@ -317,6 +310,7 @@ void World3::saveCompact(CompactState& out) const {
 }
 
 bool World3::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
+    mIndex->invalidate();
     if (!unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
         return false;
     // A compact state is checked by its checksum only (it is this process's own rollback state); should its values

@@ -67,7 +67,7 @@ void drawFrame(const World3& world, const Camera& cam, const std::string& path, 
     };
     for (const BodyId id : world.bodyIds()) {
         const Transform3 xf = world.transform(id);
-        layer = world.info(id)->type == BodyType3::staticBody ? 0 : 1;
+        layer = world.info(id)->type == BodyType::staticBody ? 0 : 1;
         for (const Shape3& s : world.info(id)->shapes) {
             if (s.type == ShapeType3::mesh) {
                 const TriangleMesh& m = *s.mesh;

@@ -6,7 +6,7 @@
 #pragma once
 
 #include "json_fields.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <nlohmann/json.hpp>
 

@@ -1,5 +1,5 @@
-// samples/cli_replay.cpp — `unison record`, `unison verify` and `unison diff` (README "Snapshots, recordings and
-// replay"): thin wrappers that read files, call replay/, print JSON and choose the exit code.
+// samples/cli_replay.cpp — `unison record`, `unison verify` and `unison diff` (docs/replay.md): thin wrappers that
+// read files, call replay/, print JSON and choose the exit code.
 #include "cli.h"
 #include "desync_report.h"
 #include "recording.h"

@@ -6,10 +6,11 @@
 //  2. billiard.svg A cue ball hitting two touching balls at +-30 degrees, e = 0.9.
 //  3. pyramid.svg  A settled 20-row box pyramid: all 800 contact impulses from one Lemke solve, drawn as bars.
 //                  The same solve is repeated warm-started from its own basis, as the next frame would be.
-//  4. world_pyramid.svg  The 2D world (in progress, issue 3): the Box2D testbed pyramid (scenes/pyramid20.json)
+//  4. world_pyramid.svg  The 2D world: the Box2D testbed pyramid (scenes/pyramid20.json)
 //                  dropped, landed and stepped for 5 s, with its contact impulses.
 // Usage: unison_demo [OUTPUT_DIR]   (default: out)
 #include "lcp_families.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "resolver2d.h"
 #include "svg.h"

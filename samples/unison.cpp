@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     int recordSteps = 60, snapshotEvery = 30;
     auto* record = app.add_subcommand("record", "record a 2D or 3D scene with per-tick inputs: hashes and snapshots");
     record->add_option("SCENE", sceneFile, "scene JSON file")->required();
-    record->add_option("--inputs", inputsFile, "inputs JSON file (README \"Inputs JSON\"); none if omitted");
+    record->add_option("--inputs", inputsFile, "inputs JSON file (docs/formats.md); none if omitted");
     record->add_option("--steps", recordSteps, "number of ticks (default 60)")->check(CLI::NonNegativeNumber);
     record->add_option("--snapshot-every", snapshotEvery, "full snapshot every K ticks (default 30)")
         ->check(CLI::PositiveNumber);

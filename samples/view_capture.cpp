@@ -94,10 +94,10 @@ struct Dim3View {
                 }
             }
         }
-        return {{"type", typeName(info.type == BodyType3::staticBody, info.type == BodyType3::kinematicBody)}, {"shapes", shapes}};
+        return {{"type", typeName(info.type == BodyType::staticBody, info.type == BodyType::kinematicBody)}, {"shapes", shapes}};
     }
-    static bool isDynamic(const World3& w, BodyId id) { return w.info(id)->type == BodyType3::dynamicBody; }
-    static bool isStatic(const World3& w, BodyId id) { return w.info(id)->type == BodyType3::staticBody; }
+    static bool isDynamic(const World3& w, BodyId id) { return w.info(id)->type == BodyType::dynamicBody; }
+    static bool isStatic(const World3& w, BodyId id) { return w.info(id)->type == BodyType::staticBody; }
     static bool awake(const World3& w, BodyId id) { return w.info(id)->awake; }
     static void pose(const World3& w, BodyId id, float* out) {
         const BodyState3& s = *w.state(id);

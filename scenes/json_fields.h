@@ -71,7 +71,7 @@ struct Material {
 /// Reads "density", "friction" and "restitution" of a shape object (defaults above), checking their ranges.
 Material material(const nlohmann::json& shape, const std::string& path);
 
-/// Body kinds of the scene files, in the order of BodyType / BodyType3 (static_cast between them is exact).
+/// Body kinds of the scene files, in the order of BodyType (static_cast is exact).
 enum class BodyKind { staticBody = 0, kinematicBody = 1, dynamicBody = 2 };
 /// Reads a body's "type" ("static", "kinematic", "dynamic"; default dynamic).
 BodyKind bodyKind(const nlohmann::json& body, const std::string& path);

@@ -14,7 +14,7 @@
 #include "contact_resolver.h"
 #include "dim2.h"
 #include "dim3.h"
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <string>
 #include <vector>

@@ -1,4 +1,4 @@
-// scenes/make_scenes2d.h — generators of the shared 2D scenes, returned as scene JSON (README "Scene format").
+// scenes/make_scenes2d.h — generators of the shared 2D scenes, returned as scene JSON (docs/formats.md).
 //
 // Owns: the layouts that tests, benchmarks and samples all run (the Box2D 2.4.1 testbed pyramid, many separate
 // pyramids, a grid of falling circles in a container, a box stack, a restitution row, a box on a ramp), and the

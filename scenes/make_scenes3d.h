@@ -1,4 +1,4 @@
-// scenes/make_scenes3d.h — generators of the shared 3D scenes, returned as scene JSON (README "The 3D world").
+// scenes/make_scenes3d.h — generators of the shared 3D scenes, returned as scene JSON (docs/formats.md).
 //
 // Owns: the layouts that tests, bench_world3d (Unison and Bullet 3.24 side by side) and samples run: a box stack,
 // a box pile, a row of bouncing spheres, a box on a ramp, the bunnies on two ramps. JSON lets the same scene be

@@ -118,6 +118,4 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
 
 json readSceneFile(const std::string& path) { return jsonio::parseJson(jsonio::readFile(path), path); }
 
-std::string sceneDir() { return UNISON_SCENE_DIR; }
-
 }  // namespace unison::scenes

@@ -40,7 +40,4 @@ LoadedScene2 loadScene2(const nlohmann::json& scene, const std::string& what, co
 /// Reads and parses a scene file. Throws SceneError.
 nlohmann::json readSceneFile(const std::string& path);
 
-/// Folder of the shared example scenes (scenes/*.json in the source tree).
-std::string sceneDir();
-
 }  // namespace unison::scenes

@@ -9,9 +9,9 @@
 namespace unison::scenes {
 namespace {
 
-static_assert(int(BodyType3::staticBody) == int(jsonio::BodyKind::staticBody) &&
-                  int(BodyType3::kinematicBody) == int(jsonio::BodyKind::kinematicBody) &&
-                  int(BodyType3::dynamicBody) == int(jsonio::BodyKind::dynamicBody),
+static_assert(int(BodyType::staticBody) == int(jsonio::BodyKind::staticBody) &&
+                  int(BodyType::kinematicBody) == int(jsonio::BodyKind::kinematicBody) &&
+                  int(BodyType::dynamicBody) == int(jsonio::BodyKind::dynamicBody),
               "scene body kinds cast to the world's body types");
 
 using nlohmann::json;
@@ -113,7 +113,7 @@ Shape3 readShape3(const json& js, const std::string& path, const std::string& ba
 BodySpec3 readBody3(const json& jb, const std::string& path, const std::string& baseDir) {
     BodySpec3 spec;
     BodyDef3& bd = spec.def;
-    bd.type = static_cast<BodyType3>(jsonio::bodyKind(jb, path));
+    bd.type = static_cast<BodyType>(jsonio::bodyKind(jb, path));
     bd.position = vec3Or(jb, path, "position", policy::kMaxCoordinate, Vec3::Zero());
     if (const json* q = member(jb, path, "orientation", false)) {
         const std::vector<double> n = jsonio::numbersWithin(*q, path + ".orientation", 4, policy::kMaxCoordinate);

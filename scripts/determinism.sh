@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Cross-build determinism check (issue 4): builds the simulation libraries and `unison_golden` with gcc -O0, gcc -O2,
+# Cross-build determinism check: builds the simulation libraries and `unison_golden` with gcc -O0, gcc -O2,
 # gcc -O3, clang -O2 and gcc for aarch64 (run under qemu-aarch64), runs the golden scenes in each, prints a matrix
 # builds x scenes of chain hashes (the XXH3 of every tick's state hash) and exits 1 if any build differs from the
 # first, 2 if a build or run fails.
@@ -48,7 +48,10 @@ for spec in "${builds[@]}"; do
   echo "== $name: building" >&2
   # A custom build type, so the optimisation level is exactly $opt (Release pins -O2 in CMakeLists.txt).
   # shellcheck disable=SC2086
+  cc=${cxx/clang++/clang}
+  cc=${cc/g++/gcc}
   if ! cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE=Det -DCMAKE_CXX_FLAGS_DET="$opt" -DCMAKE_CXX_COMPILER="$cxx" \
+        -DCMAKE_C_COMPILER="$cc" \
         -DUNISON_MINIMAL=ON $extra >"$log" 2>&1 ||
      ! cmake --build "$dir" -j2 --target unison_golden >>"$log" 2>&1; then
     echo "error: build $name failed; see $log" >&2

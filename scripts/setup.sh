@@ -5,7 +5,7 @@
 # qemu-user for scripts/determinism.sh; --sanitize adds clang and its sanitizer and libFuzzer runtimes for
 # scripts/sanitize.sh, scripts/tsan.sh and scripts/fuzz.sh; --tsan is the same as --sanitize)
 set -euo pipefail
-packages=(cmake g++ make libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
+packages=(cmake gcc g++ make dpkg-dev libeigen3-dev doctest-dev libbox2d-dev nlohmann-json3-dev libcli11-dev libxxhash-dev
           libsiconos-numerics-dev libbullet-dev pkg-config libenet-dev zlib1g-dev chromium)
 # Node and npm drive the browser tests (scripts/browser_test.sh); a machine may already have them from elsewhere.
 command -v node >/dev/null || packages+=(nodejs)

@@ -6,6 +6,7 @@
 //
 // Usage: unison_soak [--steps N] [--quick]   (--quick: 1,000 steps, the ctest entry soak_quick)
 // Prints one JSON line; exits 0 when every check held, 1 otherwise (with the reason on stderr).
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "scene_json3d.h"
 #include "state_io.h"

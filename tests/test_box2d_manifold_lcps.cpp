@@ -7,7 +7,7 @@
 // The residuals are recomputed here from (A, b, z), never taken from the solver.
 #include "box2d_manifold_lcps.h"
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <Eigen/Dense>
 #include <doctest/doctest.h>

@@ -1,4 +1,4 @@
-// tests/test_box2d_validation.cpp — issue 3 item 7: the same 2D scenes built in Unison's World2 and in Box2D 2.4.1
+// tests/test_box2d_validation.cpp — the same 2D scenes built in Unison's World2 and in Box2D 2.4.1
 // (bench/box2d_peer), stepped side by side and compared, and where a closed form exists, compared with it too.
 //
 // Box2D differs from Unison by design in ways the tolerances must allow for, and each case says how:
@@ -11,12 +11,13 @@
 //     solves one LCP per island. The Newton's cradle case is where this shows, and is meant to.
 //
 // `UNISON_VERBOSE=1 build/tests/unison_tests --test-suite=box2d_validation` prints every measured number (the
-// table of README "Validation against Box2D 2.4.1").
+// table in docs/benchmarks.md).
 #include "test_support.h"
 
 #include "box2d_peer.h"
 #include "det_math.h"
 #include "make_scenes2d.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "world2d.h"
 
@@ -98,7 +99,7 @@ struct Both {
 TEST_SUITE("box2d_validation") {
 
 TEST_CASE("vertical stack of 10 boxes: both rest, heights agree within 1 cm after Box2D's skin") {
-    // Tolerance 1 cm (issue 3): Unison rests boxes touching, with at most the 5 mm slop of penetration per
+    // Tolerance 1 cm: Unison rests boxes touching, with at most the 5 mm slop of penetration per
     // contact that position correction leaves; Box2D rests them kPolygonLayer apart. After removing
     // (layer count) * kPolygonLayer from Box2D's heights the two differ only by Unison's slop and Box2D's
     // remaining overlap error, which must stay below 1 cm even for the top box (10 layers).
@@ -122,7 +123,7 @@ TEST_CASE("vertical stack of 10 boxes: both rest, heights agree within 1 cm afte
 TEST_CASE("20-row pyramid at the testbed spacing: both rest; columns and heights against Box2D") {
     // The Box2D 2.4.1 testbed pyramid (0.5 m boxes, rows 0.25 m apart, so it lands), in Box2D at the testbed's
     // 8 velocity iterations for kRestSeconds, and at 64 for 10 s (its columns are settled by then: the same to
-    // 0.1 mm at 30 s). Tolerances (issue 3):
+    // 0.1 mm at 30 s). Tolerances:
     //   - Vertically every box within 2 cm of Box2D's resting height after removing (row + 1) * kPolygonLayer of
     //     skin. Unison rests touching (at most the 5 mm slop per layer; measured 0), Box2D decompresses to its
     //     skin (see kRestSeconds); 2 cm leaves room for Box2D's remaining compression of its 20 layers. Asserted
@@ -201,7 +202,7 @@ struct ApexTracker {
 TEST_CASE("restitution row: rebound apexes within 3 % of Box2D and of e^2 h") {
     // 7 circles of radius 0.5 dropped from y = 5 onto the ground, e = k/6. The rebound rises e^2 h above the resting
     // height (energy e^2 of the impact's), h = 5 - rest height: 4.5 m for Unison, 4.5 - kCircleLayer for Box2D.
-    // Tolerance 3 % of e^2 h and of Box2D's rise (issue 3). Both engines integrate gravity by semi-implicit Euler
+    // Tolerance 3 % of e^2 h and of Box2D's rise. Both engines integrate gravity by semi-implicit Euler
     // at 60 Hz, so neither reaches e^2 h exactly, and the slowest rebound (e = 1/6, 1.6 m/s) is the hardest case:
     // measured Unison +0.56 % (e = 1) to +2.2 % (e = 1/6), Box2D +0.54 % to +1.2 %. World2 bounces at the time of
     // impact inside the step; before it did, the apex was +3.5 % (e = 1) to +64 % (e = 1/6).
@@ -264,7 +265,7 @@ TEST_CASE("friction ramp: mu above tan(theta) stays, below slides, as in Box2D")
     // a = g (sin(theta) - mu cos(theta)) (the semi-implicit Euler sum of the Coulomb closed form) when
     // mu < tan(theta), and does not move when mu > tan(theta). Tolerances: a staying box moves < 1 mm in either
     // engine (Box2D's skin and float rounding allow a little creep, Unison's LCP none); a sliding one is within
-    // 5 % of the closed form and of Box2D (issue 3's tolerance for the ramp).
+    // 5 % of the closed form and of Box2D (the ramp's tolerance).
     const double theta = 3.141592653589793 / 6.0, g = 10.0, t = 1.0, dt = 1.0 / 60.0;
     for (double mu : {0.3, 0.5, 0.65, 0.8}) {
         CAPTURE(mu);
@@ -287,7 +288,7 @@ TEST_CASE("friction ramp: stopping distances within 5 % of Box2D") {
     // theta = 20 degrees, mu = 0.6 > tan(theta) = 0.364: a box launched along the ramp at 3 m/s decelerates at
     // g (mu cos(theta) -+ sin(theta)) and stops after v^2 / (2 a) (continuous closed form: 2.03 m downhill, 0.50 m
     // uphill; the semi-implicit Euler sum is about v dt / 2 = 2.5 cm shorter), then stays. Tolerance 5 % of
-    // Box2D's distance (issue 3); the closed form is printed for reference.
+    // Box2D's distance; the closed form is printed for reference.
     const double theta = 20.0 / 180.0 * 3.141592653589793, mu = 0.6, g = 10.0, v = 3.0;
     double s = 0.0, c = 1.0;
     dmath::sincos(theta, &s, &c);

@@ -150,6 +150,37 @@ TEST_CASE("a CollideBatch reuses placements without changing a bit; a new batch 
     }
 }
 
+TEST_CASE("feature ids are unique within a manifold (they key the warm-start cache), also for many-sided hull faces") {
+    // Pairs of random 12-point hulls in random poses: clipping a face of five or more sides used to name two points
+    // alike, and a world holding such a contact wrote a snapshot its own restore refused.
+    std::uint64_t state = 12345;
+    auto uniform = [&](double lo, double hi) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + (hi - lo) * double(state >> 11) * 0x1.0p-53;
+    };
+    auto hull = [&] {
+        std::vector<Vec3> pts;
+        for (int i = 0; i < 12; ++i) {
+            const Vec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+            pts.push_back(d / d.norm());
+        }
+        Shape3 s;
+        REQUIRE(makeHull(pts, &s).empty());
+        return s;
+    };
+    int points = 0;
+    for (int i = 0; i < 2000; ++i) {
+        const Shape3 a = hull(), b = hull();
+        const Transform3 xa{Vec3(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)),
+                            toMatrix(normalized(Quat{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)}))};
+        const Manifold3 m = collide(a, xa, b, Transform3{}, 0.02);
+        for (int p = 0; p < m.count; ++p)
+            for (int q = 0; q < p; ++q) CHECK(m.points[std::size_t(p)].id != m.points[std::size_t(q)].id);
+        points += m.count;
+    }
+    CHECK(points > 2000);
+}
+
 TEST_CASE("broadphase: sorted pairs, inactive pairs skipped, invalid boxes ignored") {
     std::vector<Aabb3> boxes{{Vec3(0, 0, 0), Vec3(1, 1, 1)}, {Vec3(0.5, 0.5, 0.5), Vec3(2, 2, 2)},
                              {Vec3(0.9, 0.9, 5), Vec3(3, 3, 6)}, {Vec3(-1, -1, -1), Vec3(5, 5, 5)},

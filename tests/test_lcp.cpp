@@ -2,7 +2,7 @@
 // warm starts and determinism, on small problems whose answers are known exactly.
 #include "test_support.h"
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 #include <cmath>
 #include <limits>

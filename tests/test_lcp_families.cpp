@@ -1,4 +1,4 @@
-// tests/test_lcp_families.cpp — the hard LCP families of DESIGN.md and issue 2, each with the status a correct
+// tests/test_lcp_families.cpp — the hard LCP families of the solver contract, each with the status a correct
 // Lemke must report, the scaled residual bound (1e-9) and, for contact scenes, the physics the impulses must
 // produce: a settled stack hit by one step of gravity stops dead (e = 0), so every post-impulse velocity is zero.
 #include "test_support.h"

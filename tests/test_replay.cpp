@@ -1,4 +1,4 @@
-// tests/test_replay.cpp — determinism, snapshots and replay verification of the 2D world (issue 4): golden hashes
+// tests/test_replay.cpp — determinism, snapshots and replay verification of the 2D world: golden hashes
 // of the golden scenes, snapshot -> restore -> continue bit-identically (warm starts and id reuse included),
 // record -> verify, desync reports naming the tampered tick, and rejection of corrupt or truncated data with the live
 // world untouched.

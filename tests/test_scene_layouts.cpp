@@ -116,7 +116,7 @@ Survey survey3(const json& scene, double margin = 0.01) {
     int dynamicBodies = 0;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const scenes::BodySpec3 spec = scenes::readBody3(bodies[i], "bodies[" + std::to_string(i) + "]");
-        const bool dynamic = spec.def.type == BodyType3::dynamicBody;
+        const bool dynamic = spec.def.type == BodyType::dynamicBody;
         dynamicBodies += dynamic ? 1 : 0;
         Transform3 xf;
         xf.p = spec.def.position;

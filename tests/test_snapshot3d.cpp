@@ -1,4 +1,4 @@
-// tests/test_snapshot3d.cpp — snapshots, restore, recordings and verify for the 3D world (issue 4 for World3):
+// tests/test_snapshot3d.cpp — snapshots, restore, recordings and verify for the 3D world:
 // bit-identical continuation after a restore (meshes with rebuilt sphere trees, shared geometry, warm starts),
 // corrupt / truncated / foreign snapshots rejected with the live world untouched, 3D inputs applied with their
 // closed-form effect, record + verify of a 3D scene and a tampered input reported at its tick.
@@ -6,6 +6,7 @@
 
 #include "make_scenes3d.h"
 #include "recording.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "scene_json3d.h"
 #include "snapshot_file.h"
@@ -315,7 +316,7 @@ TEST_CASE("World3::applyImpulse: dv = J / m and dw = I^-1 (r x J) for a sphere")
     Shape3 plane;
     REQUIRE(makePlane(Vec3::UnitY(), 0.0, &plane).empty());
     BodyDef3 ground;
-    ground.type = BodyType3::staticBody;
+    ground.type = BodyType::staticBody;
     CHECK_FALSE(w.applyImpulse(w.createBody(ground, {plane}), Vec3(1, 0, 0), Vec3::Zero()));
     CHECK_FALSE(w.applyImpulse(BodyId::null(), Vec3(1, 0, 0), Vec3::Zero()));
 }

@@ -3,7 +3,7 @@
 
 #include <doctest/doctest.h>
 
-#include "lcp.h"
+#include <unison/lcp.h>
 
 namespace doctest {
 template <>

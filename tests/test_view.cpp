@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "process_run.h"
 #include "recording.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "snapshot_file.h"
 #include "view_page.h"

@@ -3,6 +3,7 @@
 #include "test_support.h"
 
 #include "make_scenes2d.h"
+#include "scene_dir.h"
 #include "scene_json.h"
 #include "world2d.h"
 
@@ -193,7 +194,7 @@ TEST_CASE("the 20-row testbed pyramid lands with friction in every island and re
     // Known and open: a contact at the edge of its friction cone creeps. Its cone violation grows ~1.4x per 40
     // steps from 2e-11 (the check accepts it below the 1e-9 tolerance), and from ~11 s on the basis is re-solved
     // every 20-40 steps (about 130 pivots each): 8796 pivots in steps 300-1500 (it was 113 with the LU check, by
-    // the luck of where the pile settled; the 18-row pyramid fails in both from ~11 s, see the README). The
+    // the luck of where the pile settled; the 18-row pyramid fails in both from ~11 s, see docs/solver-notes.md). The
     // failure this bound guards against is the dead-zone creep of thousands of pivots every step.
     CHECK(restingPivots <= 12000);
 }

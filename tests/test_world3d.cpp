@@ -54,7 +54,7 @@ Shape3 boxMesh(const Vec3& lo, const Vec3& hi) {
 
 BodyId addStatic(World3& w, const Shape3& s, const Vec3& p = Vec3::Zero(), const Quat& q = Quat{}) {
     BodyDef3 d;
-    d.type = BodyType3::staticBody;
+    d.type = BodyType::staticBody;
     d.position = p;
     d.orientation = q;
     return w.createBody(d, {s});

@@ -1,9 +1,9 @@
-// core/lcp.h — the linear complementarity problem and Unison's bounded, deterministic Lemke solver.
+// unison/lcp.h — the linear complementarity problem and Unison's bounded, deterministic Lemke solver.
 //
 // Owns: the LCP data type (dense A, b), solver options, the explicit outcome of a solve, and LemkeSolver, a
 // reusable workspace. Problem (the paper's eqs. (12)-(14); b is "q" in textbooks):
 //     find z >= 0 with w = A z + b >= 0 and z.w = 0.
-// Invariants and contract (DESIGN.md "Lemke solver contract"):
+// Contract (docs/solver.md):
 //   - the pivot sequence is a pure function of (A, b, options, warm basis): lexicographic minimum-ratio test,
 //     z0 leaves first on ties, remaining ties by lowest index; entries below a relative tolerance never pivot;
 //   - every solve ends with an explicit status, and `solved` is only reported after the complementarity
@@ -113,14 +113,13 @@ struct LcpOptions {
     ///   violated: only the unknowns the guess leaves negative rise; the others stay where the guess puts them.
     /// Neither has Lemke's termination guarantee (the classical d = 1 from the all-slack basis has it): a warm path
     /// that wanders or ends in a ray hands the rest of the budget to a cold start. Which is shorter depends on the
-    /// problem family; see WorldDef2::lcp and WorldDef3::lcp for the measured choice of each world.
+    /// problem family (docs/solver.md).
     enum class WarmCovering { uniform, violated };
     WarmCovering warmCovering = WarmCovering::uniform;
     /// Block principal pivoting rounds of a warm start (0 to 8): when the guess does not check out, drop its basic
     /// unknowns that came out negative, add the rows whose w came out negative, and check again, this many times
-    /// before Lemke's path starts from the guess. Each round is one factorisation. They pay off on small scenes
-    /// whose basis changes by a few unknowns; on the 2D pyramids and the 3D cube piles of the benchmarks no round
-    /// ever succeeded, and WorldDef3 turns them off.
+    /// before Lemke's path starts from the guess. Each round is one factorisation; they pay off when the basis
+    /// changes by a few unknowns.
     int blockPivotRounds = 3;
 
     static constexpr int kDefaultMaxPivots = 100000;
@@ -187,10 +186,11 @@ public:
     /// w is within rounding of the tolerances may be accepted or refused differently.
     LcpResult checkGuess(SparseLcp&& guessBlock, const LcpOptions& options, const Product& product);
 
-    /// Per-solve state (defined in lcp.cpp); public only so that lcp.cpp's helpers can name it.
+    /// Per-solve buffers (private to the library; declared here so that the solver's helpers can name them).
     struct Workspace;
 
 private:
+    struct Run;  // one Lemke path by its phases (lcp.cpp)
     /// One Lemke run; `restartsLeft` bounds the restarts after a cycling pivot path.
     LcpResult run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft = 2);
     Workspace& workspace();

@@ -1,0 +1,410 @@
+// tests/test_api.cpp — the public C++ API (unison/world2d.h, world3d.h, replay.h) and the C API (unison/unison.h)
+// from C++: the same scene built through the public worlds, the C API and the engine's worlds gives the same state
+// hash every step; bad arguments fail and change nothing (the hash and the snapshot bytes stay the same); snapshots
+// and rollback states round-trip; queries and events come through; an unfit floating-point environment is refused;
+// recordings verify. (tests/capi_test.c calls every C function from a C99 program.)
+#include "test_support.h"
+
+#include <unison/replay.h>
+#include <unison/unison.h>
+#include <unison/world2d.h>
+#include <unison/world3d.h>
+
+#include "scene_dir.h"
+#include "scene_json.h"
+#include "world2d.h"
+#include "world3d.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
+using namespace unison;
+
+namespace {
+
+const double kNan = std::nan("");
+
+// A pile in 2D through the public API: ground segment, a box, a circle, a triangle, a rotated box.
+World2D pile2(std::vector<BodyId>* ids = nullptr) {
+    World2D w;
+    BodyDef2D ground;
+    ground.type = BodyType::staticBody;
+    const BodyId g = w.createBody(ground, {ShapeDef2D::segment({-10, 0}, {10, 0}), ShapeDef2D::box(0.5, 2.0, {-6, 2})});
+    REQUIRE(!g.isNull());
+    const std::vector<ShapeDef2D> shapes{ShapeDef2D::box(0.5, 0.5), ShapeDef2D::circle({0.1, 0}, 0.4),
+                                         ShapeDef2D::polygon({{-0.5, 0}, {0.5, 0}, {0, 0.7}}),
+                                         ShapeDef2D::box(0.6, 0.3, {0, 0}, 0.3)};
+    for (int i = 0; i < 4; ++i) {
+        BodyDef2D d;
+        d.position = {0.2 * i, 0.6 + 1.1 * i};
+        d.angle = 0.1 * i;
+        std::string error;
+        const BodyId id = w.createBody(d, {shapes[std::size_t(i)]}, &error);
+        REQUIRE_MESSAGE(!id.isNull(), error);
+        if (ids) ids->push_back(id);
+    }
+    return w;
+}
+
+// The same pile through the engine's World2.
+World2 enginePile2() {
+    World2 w;
+    auto shape = [](const ShapeDef2D& s) {
+        Shape2 out;
+        if (s.kind == ShapeKind2D::circle) {
+            REQUIRE(makeCircle({s.center.x, s.center.y}, s.radius, &out.circle).empty());
+            out.type = ShapeType::circle;
+        } else if (s.kind == ShapeKind2D::box) {
+            REQUIRE(makeBox(s.halfExtents.x, s.halfExtents.y, {s.center.x, s.center.y}, s.angle, &out.polygon).empty());
+            out.type = ShapeType::polygon;
+        } else if (s.kind == ShapeKind2D::polygon) {
+            std::vector<Vec2> pts;
+            for (Vec2D p : s.points) pts.push_back({p.x, p.y});
+            REQUIRE(makePolygon(pts, &out.polygon).empty());
+            out.type = ShapeType::polygon;
+        } else {
+            REQUIRE(makeSegment({s.points[0].x, s.points[0].y}, {s.points[1].x, s.points[1].y}, &out.segment).empty());
+            out.type = ShapeType::segment;
+        }
+        return out;
+    };
+    BodyDef2 ground;
+    ground.type = BodyType::staticBody;
+    w.createBody(ground, {shape(ShapeDef2D::segment({-10, 0}, {10, 0})), shape(ShapeDef2D::box(0.5, 2.0, {-6, 2}))});
+    const std::vector<ShapeDef2D> shapes{ShapeDef2D::box(0.5, 0.5), ShapeDef2D::circle({0.1, 0}, 0.4),
+                                         ShapeDef2D::polygon({{-0.5, 0}, {0.5, 0}, {0, 0.7}}),
+                                         ShapeDef2D::box(0.6, 0.3, {0, 0}, 0.3)};
+    for (int i = 0; i < 4; ++i) {
+        BodyDef2 d;
+        d.position = {0.2 * i, 0.6 + 1.1 * i};
+        d.angle = 0.1 * i;
+        REQUIRE(!w.createBody(d, {shape(shapes[std::size_t(i)])}).isNull());
+    }
+    return w;
+}
+
+// The cube [-h, h]^3 as a closed mesh.
+ShapeDef3D cubeMesh(double h) {
+    std::vector<Vec3D> v;
+    for (int i = 0; i < 8; ++i) v.push_back({(i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h});
+    return ShapeDef3D::mesh(v, {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                                {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}});
+}
+
+World3D pile3(std::vector<BodyId>* ids = nullptr) {
+    World3D w;
+    BodyDef3D ground;
+    ground.type = BodyType::staticBody;
+    REQUIRE(!w.createBody(ground, {ShapeDef3D::plane({0, 1, 0}, 0.0)}).isNull());
+    const std::vector<ShapeDef3D> shapes{
+        ShapeDef3D::box({0.5, 0.5, 0.5}), ShapeDef3D::sphere({0, 0, 0}, 0.4),
+        ShapeDef3D::hull({{-0.5, 0, -0.5}, {0.5, 0, -0.5}, {0, 0, 0.5}, {0, 0.8, 0}}), cubeMesh(0.3)};
+    for (int i = 0; i < 4; ++i) {
+        BodyDef3D d;
+        d.position = {0.1 * i, 0.6 + 1.1 * i, -0.05 * i};
+        d.orientation = {std::cos(0.05 * i), std::sin(0.05 * i), 0, 0};
+        std::string error;
+        const BodyId id = w.createBody(d, {shapes[std::size_t(i)]}, &error);
+        REQUIRE_MESSAGE(!id.isNull(), error);
+        if (ids) ids->push_back(id);
+    }
+    return w;
+}
+
+template <class World>
+void checkUnchanged(const World& w, std::uint64_t hash, const std::vector<std::uint8_t>& snap) {
+    CHECK(w.stateHash() == hash);
+    CHECK(w.snapshot() == snap);
+}
+
+std::string readText(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+}  // namespace
+
+TEST_SUITE("api") {
+
+TEST_CASE("2D: the public world steps the engine's world bit for bit; the C API too") {
+    World2D pub = pile2();
+    World2 engine = enginePile2();
+    // The same through the C API.
+    unisonWorldDef2 def = unisonDefaultWorldDef2();
+    unisonWorldId cw;
+    REQUIRE(unisonCreateWorld2(&def, &cw) == UNISON_OK);
+    unisonBodyDef2 ground = unisonDefaultBodyDef2();
+    ground.type = UNISON_BODY_STATIC;
+    unisonShapeDef2 groundShapes[2] = {unisonMakeSegment2({-10, 0}, {10, 0}), unisonMakeBox2(0.5, 2.0)};
+    groundShapes[1].center = {-6, 2};
+    unisonBodyId cid;
+    REQUIRE(unisonCreateBody2(cw, &ground, groundShapes, 2, &cid) == UNISON_OK);
+    const unisonVec2 tri[3] = {{-0.5, 0}, {0.5, 0}, {0, 0.7}};
+    unisonShapeDef2 shapes[4] = {unisonMakeBox2(0.5, 0.5), unisonMakeCircle2({0.1, 0}, 0.4), unisonMakePolygon2(tri, 3),
+                                 unisonMakeBox2(0.6, 0.3)};
+    shapes[3].angle = 0.3;
+    for (int i = 0; i < 4; ++i) {
+        unisonBodyDef2 d = unisonDefaultBodyDef2();
+        d.position = {0.2 * i, 0.6 + 1.1 * i};
+        d.angle = 0.1 * i;
+        REQUIRE(unisonCreateBody2(cw, &d, &shapes[i], 1, &cid) == UNISON_OK);
+    }
+    for (int step = 0; step <= 120; ++step) {
+        std::uint64_t ch = 0;
+        REQUIRE(unisonGetStateHash(cw, &ch) == UNISON_OK);
+        REQUIRE(pub.stateHash() == engine.stateHash());
+        REQUIRE(ch == engine.stateHash());
+        pub.step();
+        engine.step();
+        REQUIRE(unisonStep(cw) == UNISON_OK);
+    }
+    CHECK(pub.stepInfo().contacts == engine.stats().contacts);
+    CHECK(pub.contacts().size() == engine.contacts().size());
+    CHECK(unisonDestroyWorld(cw) == UNISON_OK);
+}
+
+TEST_CASE("3D: the public world, the C API and the engine agree; every shape kind") {
+    World3D pub = pile3();
+    unisonWorldDef3 def = unisonDefaultWorldDef3();
+    unisonWorldId cw;
+    REQUIRE(unisonCreateWorld3(&def, &cw) == UNISON_OK);
+    unisonBodyDef3 ground = unisonDefaultBodyDef3();
+    ground.type = UNISON_BODY_STATIC;
+    const unisonShapeDef3 plane = unisonMakePlane3({0, 1, 0}, 0.0);
+    unisonBodyId cid;
+    REQUIRE(unisonCreateBody3(cw, &ground, &plane, 1, &cid) == UNISON_OK);
+    const unisonVec3 hullPts[4] = {{-0.5, 0, -0.5}, {0.5, 0, -0.5}, {0, 0, 0.5}, {0, 0.8, 0}};
+    unisonVec3 cube[8];
+    for (int i = 0; i < 8; ++i) cube[i] = {(i & 1) ? 0.3 : -0.3, (i & 2) ? 0.3 : -0.3, (i & 4) ? 0.3 : -0.3};
+    const int tris[36] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                          2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+    const unisonShapeDef3 shapes[4] = {unisonMakeBox3({0.5, 0.5, 0.5}), unisonMakeSphere3({0, 0, 0}, 0.4),
+                                       unisonMakeHull3(hullPts, 4), unisonMakeMesh3(cube, 8, tris, 12)};
+    for (int i = 0; i < 4; ++i) {
+        unisonBodyDef3 d = unisonDefaultBodyDef3();
+        d.position = {0.1 * i, 0.6 + 1.1 * i, -0.05 * i};
+        d.orientation = {std::cos(0.05 * i), std::sin(0.05 * i), 0, 0};
+        REQUIRE(unisonCreateBody3(cw, &d, &shapes[i], 1, &cid) == UNISON_OK);
+    }
+    for (int step = 0; step <= 90; ++step) {
+        std::uint64_t ch = 0;
+        REQUIRE(unisonGetStateHash(cw, &ch) == UNISON_OK);
+        REQUIRE(ch == pub.stateHash());
+        pub.step();
+        REQUIRE(unisonStep(cw) == UNISON_OK);
+    }
+    // The box rests on the plane: its centre at 0.5 m.
+    BodyState3D s;
+    REQUIRE(pub.getState(pub.bodyIds()[1], &s));
+    CHECK(s.position.y == doctest::Approx(0.5).epsilon(0.01));
+    CHECK(s.mass == doctest::Approx(1.0));
+    CHECK(unisonDestroyWorld(cw) == UNISON_OK);
+}
+
+TEST_CASE("defaults of the public definitions are the engine's") {
+    const WorldDef2D d2;
+    const WorldDef2 e2;
+    CHECK(d2.gravity.x == e2.gravity.x);
+    CHECK(d2.gravity.y == e2.gravity.y);
+    CHECK(d2.hz == e2.hz);
+    CHECK(d2.enableSleep == e2.enableSleep);
+    const WorldDef3D d3;
+    const WorldDef3 e3;
+    CHECK(d3.gravity.y == e3.gravity.y());
+    CHECK(d3.hz == e3.hz);
+    CHECK(d3.enableSleep == e3.enableSleep);
+    const ShapeDef2D s2;
+    const Shape2 es2;
+    CHECK(s2.density == es2.density);
+    CHECK(s2.friction == es2.friction);
+    CHECK(s2.restitution == es2.restitution);
+    const ShapeDef3D s3;
+    const Shape3 es3;
+    CHECK(s3.density == es3.density);
+    CHECK(s3.friction == es3.friction);
+    CHECK(s3.restitution == es3.restitution);
+}
+
+TEST_CASE("bad arguments fail with a message and change nothing") {
+    std::vector<BodyId> ids;
+    World2D w = pile2(&ids);
+    for (int i = 0; i < 10; ++i) w.step();
+    const std::uint64_t hash = w.stateHash();
+    const std::vector<std::uint8_t> snap = w.snapshot();
+    std::string error;
+    BodyDef2D bad;
+    bad.position = {kNan, 0};
+    CHECK(w.createBody(bad, {ShapeDef2D::circle({}, 1)}, &error).isNull());
+    CHECK(error.find("finite") != std::string::npos);
+    error.clear();
+    CHECK(w.createBody(BodyDef2D{}, {ShapeDef2D::circle({}, -1)}, &error).isNull());
+    CHECK(error.find("shape 0") != std::string::npos);
+    CHECK(w.createBody(BodyDef2D{}, {ShapeDef2D::polygon({{0, 0}, {1, 0}})}, &error).isNull());
+    ShapeDef2D threePointSegment = ShapeDef2D::segment({0, 0}, {1, 0});
+    threePointSegment.points.push_back({2, 0});
+    CHECK(w.createBody(BodyDef2D{}, {threePointSegment}, &error).isNull());
+    ShapeDef2D nanFriction = ShapeDef2D::circle({}, 1);
+    nanFriction.friction = kNan;
+    CHECK(w.createBody(BodyDef2D{}, {nanFriction}, &error).isNull());
+    CHECK(w.createBody(BodyDef2D{}, {ShapeDef2D::segment({0, 0}, {1, 0})}, &error).isNull());  // no mass
+    CHECK_FALSE(w.setVelocity(ids[0], {kNan, 0}, 0));
+    CHECK_FALSE(w.applyImpulse(ids[0], {1, 0}, {0, kNan}));
+    CHECK_FALSE(w.setGravity({0, kNan}));
+    const BodyId stale = ids[1];
+    REQUIRE(w.destroyBody(stale));
+    const std::uint64_t afterDestroy = w.stateHash();
+    const std::vector<std::uint8_t> snapAfter = w.snapshot();
+    CHECK_FALSE(w.destroyBody(stale));
+    CHECK_FALSE(w.setVelocity(stale, {1, 0}, 0));
+    CHECK_FALSE(w.isValid(stale));
+    BodyState2D s;
+    s.mass = -1.0;
+    CHECK_FALSE(w.getState(stale, &s));
+    CHECK(s.mass == -1.0);
+    std::vector<std::uint8_t> garbage = snap;
+    garbage[garbage.size() / 2] ^= 0x10;
+    CHECK_FALSE(w.restore(garbage.data(), garbage.size(), &error));
+    CHECK_FALSE(w.restore(nullptr, 10, &error));
+    CHECK_FALSE(w.restoreCompact(garbage.data(), 3, &error));
+    CHECK(w.overlapShape(ShapeDef2D::circle({}, 0), {0, 0}, 0, &error).empty());
+    CHECK(w.overlapShape(ShapeDef2D::circle({}, 1), {kNan, 0}, 0, &error).empty());
+    CHECK(w.overlapAabb({1, 1}, {0, 0}).empty());
+    checkUnchanged(w, afterDestroy, snapAfter);
+    CHECK(afterDestroy != hash);
+    CHECK_THROWS_AS(World2D(WorldDef2D{{0, -10}, 0.0, true}), Error);
+    CHECK_THROWS_AS(World3D(WorldDef3D{{0, kNan, 0}, 60.0, true}), Error);
+
+    World3D w3 = pile3();
+    const std::uint64_t h3 = w3.stateHash();
+    const std::vector<std::uint8_t> s3 = w3.snapshot();
+    BodyDef3D dyn;
+    CHECK(w3.createBody(dyn, {ShapeDef3D::plane({0, 1, 0}, 0)}, &error).isNull());  // planes are static only
+    CHECK(w3.createBody(dyn, {ShapeDef3D::hull({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}})}, &error).isNull());
+    ShapeDef3D open = cubeMesh(1.0);
+    open.triangles.pop_back();
+    CHECK(w3.createBody(dyn, {open}, &error).isNull());
+    dyn.orientation = {0, 0, 0, 0};
+    CHECK(w3.createBody(dyn, {ShapeDef3D::sphere({}, 1)}, &error).isNull());
+    CHECK(w3.overlapShape(ShapeDef3D::plane({0, 1, 0}, 0), {}, {}, &error).empty());
+    CHECK(error.find("sphere, box or hull") != std::string::npos);
+    CHECK(w3.overlapShape(ShapeDef3D::sphere({}, 1), {}, {0, 0, 0, 0}, &error).empty());
+    CHECK_FALSE(w3.rayCastClosest({0, 0, 0}, {0, 0, 0}, nullptr));
+    checkUnchanged(w3, h3, s3);
+}
+
+TEST_CASE("snapshots and rollback states continue bit-identically") {
+    World2D w = pile2();
+    for (int i = 0; i < 30; ++i) w.step();
+    const std::vector<std::uint8_t> snap = w.snapshot();
+    std::vector<std::uint8_t> compact;
+    w.saveCompact(compact);
+    CHECK(compact.size() < snap.size());
+    std::vector<std::uint64_t> straight;
+    for (int i = 0; i < 30; ++i) {
+        w.step();
+        straight.push_back(w.stateHash());
+    }
+    REQUIRE(w.restoreCompact(compact.data(), compact.size()));
+    for (int i = 0; i < 30; ++i) {
+        w.step();
+        CHECK(w.stateHash() == straight[std::size_t(i)]);
+    }
+    World2D other;
+    REQUIRE(other.restore(snap.data(), snap.size()));
+    CHECK(other.stepCount() == 30);
+    for (int i = 0; i < 30; ++i) other.step();
+    CHECK(other.stateHash() == straight.back());
+    // A 3D snapshot does not fit a 2D world.
+    std::string error;
+    const std::vector<std::uint8_t> snap3 = pile3().snapshot();
+    CHECK_FALSE(other.restore(snap3.data(), snap3.size(), &error));
+    CHECK_FALSE(error.empty());
+}
+
+TEST_CASE("events, contacts, state and queries come through") {
+    std::vector<BodyId> ids;
+    World2D w = pile2(&ids);
+    bool began = false;
+    for (int i = 0; i < 60; ++i) {
+        w.step();
+        for (const TouchEvent& e : w.beginTouchEvents()) began = began || e.a == ids[0] || e.b == ids[0];
+    }
+    CHECK(began);
+    CHECK_FALSE(w.contacts().empty());
+    CHECK(w.stepInfo().contacts == int(w.contacts().size()));
+    BodyState2D s;
+    REQUIRE(w.getState(ids[0], &s));
+    CHECK(s.position.y == doctest::Approx(0.5).epsilon(0.01));  // the box rests on the ground segment
+    CHECK(s.mass == doctest::Approx(1.0));
+    RayHit2D hit;
+    REQUIRE(w.rayCastClosest({s.position.x, 10}, {0, -20}, &hit));  // the pile's top: the box or what rests on it
+    CHECK(hit.point.y >= s.position.y + 0.5 - 1e-6);
+    CHECK(hit.normal.y > 0.0);
+    CHECK(w.rayCastAll({-20, 0.25}, {40, 0}).size() >= 2);
+    CHECK_FALSE(w.overlapAabb({-1, 0}, {1, 1}).empty());
+    CHECK_FALSE(w.overlapShape(ShapeDef2D::circle({}, 0.2), {s.position.x, s.position.y}, 0).empty());
+    CHECK(w.setGravity({0, -5}));
+    CHECK(w.gravity().y == -5);
+    CHECK(w.setVelocity(ids[0], {1, 0}, 0));
+    CHECK(w.applyImpulse(ids[0], {0, 1}, {s.position.x, s.position.y}));
+    REQUIRE(w.getState(ids[0], &s));
+    CHECK(s.linearVelocity.y == doctest::Approx(1.0));
+    CHECK(s.awake);
+}
+
+TEST_CASE("a world refuses an unfit floating-point environment") {
+#if defined(__SSE2__)
+    const unsigned int saved = _mm_getcsr();
+    _mm_setcsr(saved | 0x8040u);  // flush-to-zero and denormals-are-zero
+    std::string message;
+    try {
+        World2D w;
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    unisonWorldDef3 def = unisonDefaultWorldDef3();
+    unisonWorldId id{};
+    const unisonError code = unisonCreateWorld3(&def, &id);
+    _mm_setcsr(saved);
+    CHECK(message.find("floating-point") != std::string::npos);
+    CHECK(code == UNISON_ERROR_FLOATING_POINT);
+    CHECK(std::string(unisonLastErrorMessage()).find("flushed to zero") != std::string::npos);
+    CHECK_FALSE(unisonWorldIsValid(id));
+#endif
+    CHECK_NOTHROW(World2D{});
+}
+
+TEST_CASE("recordings: record, verify, hashes, and bad bytes") {
+    const std::string scene = readText(scenes::sceneDir() + "/cradle.json");
+    const std::string inputs = R"({"inputs": [{"tick": 3, "type": "apply_impulse", "body": 1, "impulse": [0.5, 0]}]})";
+    std::string error;
+    const std::vector<std::uint8_t> rec = recordMatch(scene, inputs, 40, 10, &error);
+    REQUIRE_MESSAGE(!rec.empty(), error);
+    VerifyResult result;
+    REQUIRE(verifyRecording(rec.data(), rec.size(), &result, &error));
+    CHECK(result.match);
+    CHECK(result.ticks == 40);
+    CHECK(result.summary == "all 40 ticks match");
+    std::vector<std::uint64_t> hashes;
+    REQUIRE(recordingHashes(rec.data(), rec.size(), &hashes));
+    CHECK(hashes.size() == 41);
+    // The recording's hashes are those of the scene stepped by the engine with the same input.
+    const auto loaded = scenes::loadScene2(nlohmann::json::parse(scene), "cradle");
+    CHECK(loaded.world->stateHash() == hashes[0]);
+    std::vector<std::uint8_t> bad = rec;
+    bad[bad.size() / 2] ^= 1;
+    CHECK_FALSE(verifyRecording(bad.data(), bad.size(), &result, &error));
+    CHECK_FALSE(error.empty());
+    CHECK(recordMatch("{", "", 10, 5, &error).empty());
+    CHECK(recordMatch(scene, "", 10, 0, &error).empty());
+    CHECK(recordMatch(scene, R"({"inputs": [{"tick": 1, "type": "nope"}]})", 10, 5, &error).empty());
+}
+
+}  // TEST_SUITE
