@@ -171,6 +171,22 @@ unisonError fromC(const unisonShapeDef3& in, ShapeDef3D* out) {
     return UNISON_OK;
 }
 
+// Steps a world unless its state is no longer finite (then nothing changes and the fault is the message).
+template <class W>
+unisonError stepWorld(W& w, const std::uint64_t* budget) {
+    std::string why = w.fault();
+    if (why.empty()) {
+        if (budget) {
+            w.step(*budget);
+        } else {
+            w.step();
+        }
+        why = w.fault();
+        if (why.empty()) return UNISON_OK;
+    }
+    return fail(UNISON_ERROR_WORLD_FAULT, why);
+}
+
 }  // namespace unison::capi
 
 using namespace unison;
@@ -191,6 +207,7 @@ const char* unisonErrorName(unisonError error) {
         case UNISON_ERROR_CAPACITY: return "capacity";
         case UNISON_ERROR_FLOATING_POINT: return "floating_point";
         case UNISON_ERROR_INTERNAL: return "internal";
+        case UNISON_ERROR_WORLD_FAULT: return "world_fault";
     }
     return "unknown";
 }
@@ -199,14 +216,16 @@ const char* unisonLastErrorMessage(void) { return tLastError.c_str(); }
 
 unisonVersion unisonGetVersion(void) { return {UNISON_VERSION_MAJOR, UNISON_VERSION_MINOR, UNISON_VERSION_PATCH}; }
 
+uint64_t unisonWorkUnitsFromMilliseconds(double ms) { return workUnitsFromMilliseconds(ms); }
+
 unisonWorldDef2 unisonDefaultWorldDef2(void) {
     const WorldDef2D d;
-    return {toC(d.gravity), d.hz, d.enableSleep ? 1 : 0};
+    return {toC(d.gravity), d.hz, d.enableSleep ? 1 : 0, d.stepBudget, toC(d.tasks)};
 }
 
 unisonWorldDef3 unisonDefaultWorldDef3(void) {
     const WorldDef3D d;
-    return {toC(d.gravity), d.hz, d.enableSleep ? 1 : 0};
+    return {toC(d.gravity), d.hz, d.enableSleep ? 1 : 0, d.stepBudget, toC(d.tasks)};
 }
 
 unisonBodyDef2 unisonDefaultBodyDef2(void) {
@@ -305,6 +324,8 @@ unisonError unisonCreateWorld2(const unisonWorldDef2* def, unisonWorldId* outWor
         d.gravity = fromC(def->gravity);
         d.hz = def->hz;
         d.enableSleep = def->enableSleep != 0;
+        d.stepBudget = def->stepBudget;
+        d.tasks = fromC(def->tasks);
         return createWorld<World2D>(d, outWorld);
     });
 }
@@ -316,6 +337,8 @@ unisonError unisonCreateWorld3(const unisonWorldDef3* def, unisonWorldId* outWor
         d.gravity = fromC(def->gravity);
         d.hz = def->hz;
         d.enableSleep = def->enableSleep != 0;
+        d.stepBudget = def->stepBudget;
+        d.tasks = fromC(def->tasks);
         return createWorld<World3D>(d, outWorld);
     });
 }
@@ -352,9 +375,43 @@ unisonError unisonGetWorldDimension(unisonWorldId world, int* outDimension) {
 }
 
 unisonError unisonStep(unisonWorldId world) {
+    return withWorld(world, [&](auto& w) { return stepWorld(w, nullptr); });
+}
+
+unisonError unisonStepWithBudget(unisonWorldId world, uint64_t budget) {
+    return withWorld(world, [&](auto& w) { return stepWorld(w, &budget); });
+}
+
+unisonError unisonSetStepBudget(unisonWorldId world, uint64_t budget) {
     return withWorld(world, [&](auto& w) {
-        w.step();
+        w.setStepBudget(budget);
         return UNISON_OK;
+    });
+}
+
+unisonError unisonGetStepBudget(unisonWorldId world, uint64_t* outBudget) {
+    return withWorld(world, [&](auto& w) {
+        if (!outBudget) return fail(UNISON_ERROR_NULL_POINTER, "outBudget is NULL");
+        *outBudget = w.stepBudget();
+        return UNISON_OK;
+    });
+}
+
+unisonError unisonSetTaskSystem(unisonWorldId world, const unisonTaskSystem* tasks) {
+    return withWorld(world, [&](auto& w) {
+        if (!tasks) return fail(UNISON_ERROR_NULL_POINTER, "tasks is NULL");
+        return w.setTaskSystem(fromC(*tasks))
+                   ? UNISON_OK
+                   : fail(UNISON_ERROR_INVALID_ARGUMENT, "workerCount must be >= 1, with both callbacks or neither");
+    });
+}
+
+unisonError unisonGetWorldFault(unisonWorldId world, char* buffer, size_t capacity, size_t* outSize) {
+    return withWorld(world, [&](auto& w) {
+        const std::string why = w.fault();
+        std::vector<std::uint8_t> bytes(why.begin(), why.end());
+        bytes.push_back(0);
+        return copyBytes(bytes, reinterpret_cast<std::uint8_t*>(buffer), capacity, outSize);
     });
 }
 
@@ -370,8 +427,10 @@ unisonError unisonGetStepInfo(unisonWorldId world, unisonStepInfo* outInfo) {
     return withWorld(world, [&](auto& w) {
         if (!outInfo) return fail(UNISON_ERROR_NULL_POINTER, "outInfo is NULL");
         const StepInfo s = w.stepInfo();
-        *outInfo = {s.islands, s.awakeIslands, s.contacts, s.pivots, s.work, s.failedIslands, s.unsolvedIslands,
-                    s.maxPenetration};
+        *outInfo = {s.islands,        s.awakeIslands,       s.contacts,          s.pivots,
+                    s.work,           s.budget,             s.minimumWork,       s.overrun,
+                    s.exactIslands,   s.approximateIslands, s.failedIslands,     s.unsolvedIslands,
+                    s.maxResidual,    s.maxApproximateResidual, s.maxPenetration};
         return UNISON_OK;
     });
 }

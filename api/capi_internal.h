@@ -99,6 +99,16 @@ inline unisonQuat toC(Quat3D q) { return {q.w, q.x, q.y, q.z}; }
 inline Quat3D fromC(unisonQuat q) { return {q.w, q.x, q.y, q.z}; }
 inline unisonShapeRef toC(const ShapeRef& r) { return {toC(r.body), r.shape}; }
 inline unisonTouchEvent toC(const TouchEvent& e) { return {toC(e.a), toC(e.b)}; }
+// The callback types of unison.h and unison/types.h are the same function types (C and C++ linkage name the same
+// calling convention on every supported compiler).
+inline unisonTaskSystem toC(const TaskSystem& t) {
+    return {t.workerCount, reinterpret_cast<unisonEnqueueTaskCallback*>(t.enqueueTask),
+            reinterpret_cast<unisonFinishTaskCallback*>(t.finishTask), t.userContext};
+}
+inline TaskSystem fromC(const unisonTaskSystem& t) {
+    return {t.workerCount, reinterpret_cast<EnqueueTaskCallback*>(t.enqueueTask),
+            reinterpret_cast<FinishTaskCallback*>(t.finishTask), t.userContext};
+}
 
 /// A C shape as the C++ API's; an error code (and a message) when its pointers or counts are invalid.
 unisonError fromC(const unisonShapeDef2& in, ShapeDef2D* out);

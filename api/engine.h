@@ -21,6 +21,11 @@ struct Engine {
     virtual int bodyCount() const = 0;
     virtual std::vector<BodyId> bodyIds() const = 0;
     virtual void step() = 0;
+    virtual void step(std::uint64_t budget) = 0;
+    virtual void setStepBudget(std::uint64_t budget) = 0;
+    virtual std::uint64_t stepBudget() const = 0;
+    virtual bool setTaskSystem(const TaskSystem& tasks) = 0;
+    virtual std::string fault() const = 0;
     virtual std::uint64_t stepCount() const = 0;
     virtual const StepStats& stats() const = 0;
     virtual const std::vector<TouchEvent>& beginEvents() const = 0;
@@ -45,6 +50,11 @@ struct EngineOf final : Engine {
     int bodyCount() const override { return world.bodyCount(); }
     std::vector<BodyId> bodyIds() const override { return world.bodyIds(); }
     void step() override { world.step(); }
+    void step(std::uint64_t budget) override { world.step(budget); }
+    void setStepBudget(std::uint64_t budget) override { world.setStepBudget(budget); }
+    std::uint64_t stepBudget() const override { return world.def().stepBudget; }
+    bool setTaskSystem(const TaskSystem& tasks) override { return world.setTaskSystem(tasks); }
+    std::string fault() const override { return world.fault(); }
     std::uint64_t stepCount() const override { return world.stepCount(); }
     const StepStats& stats() const override { return world.stats(); }
     const std::vector<TouchEvent>& beginEvents() const override { return world.beginEvents(); }

@@ -98,12 +98,7 @@ namespace {
 
 // The engine of a new world, after checking its settings and the floating-point environment.
 std::unique_ptr<api::Engine> makeEngine(const WorldDef2D& def) {
-    api::checkWorldSettings(def.hz);
-    if (!finite(def.gravity)) throw Error("unison: gravity must be finite");
-    WorldDef2 engine;
-    engine.gravity = toEngine(def.gravity);
-    engine.hz = def.hz;
-    engine.enableSleep = def.enableSleep;
+    const WorldDef2 engine = api::engineDef<WorldDef2>(def, [](Vec2D v) { return toEngine(v); });
     return std::make_unique<api::EngineOf<World2>>(engine);
 }
 

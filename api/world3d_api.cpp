@@ -99,12 +99,7 @@ namespace {
 
 // The engine of a new world, after checking its settings and the floating-point environment.
 std::unique_ptr<api::Engine> makeEngine(const WorldDef3D& def) {
-    api::checkWorldSettings(def.hz);
-    if (!finite(def.gravity)) throw Error("unison: gravity must be finite");
-    WorldDef3 engine;
-    engine.gravity = toEngine(def.gravity);
-    engine.hz = def.hz;
-    engine.enableSleep = def.enableSleep;
+    const WorldDef3 engine = api::engineDef<WorldDef3>(def, [](Vec3D v) { return toEngine(v); });
     return std::make_unique<api::EngineOf<World3>>(engine);
 }
 

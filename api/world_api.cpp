@@ -5,9 +5,13 @@
 #include "api_common.h"
 #include "engine.h"
 
+#include "step_budget.h"
+
 #include <utility>
 
 namespace unison {
+
+std::uint64_t workUnitsFromMilliseconds(double ms) { return work::fromMilliseconds(ms); }
 
 World::World(std::unique_ptr<api::Engine> engine) : mEngine(std::move(engine)) {}
 World::~World() = default;
@@ -20,6 +24,11 @@ int World::bodyCount() const { return mEngine->bodyCount(); }
 std::vector<BodyId> World::bodyIds() const { return mEngine->bodyIds(); }
 
 void World::step() { mEngine->step(); }
+void World::step(std::uint64_t budget) { mEngine->step(budget); }
+void World::setStepBudget(std::uint64_t budget) { mEngine->setStepBudget(budget); }
+std::uint64_t World::stepBudget() const { return mEngine->stepBudget(); }
+bool World::setTaskSystem(const TaskSystem& tasks) { return mEngine->setTaskSystem(tasks); }
+std::string World::fault() const { return mEngine->fault(); }
 std::uint64_t World::stepCount() const { return mEngine->stepCount(); }
 StepInfo World::stepInfo() const { return api::toStepInfo(mEngine->stats()); }
 std::vector<TouchEvent> World::beginTouchEvents() const { return mEngine->beginEvents(); }

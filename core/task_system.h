@@ -2,13 +2,15 @@
 // plugs its own job system into (enqueue a task over a range of items, later wait for it), the small built-in
 // std::thread pool used when it does not, and parallelFor(), the one way the step calls either.
 //
-// Owns: the callback types, TaskSystem (the callbacks of one world plus its worker count) and ThreadPool.
+// Owns: ThreadPool and parallelFor(); the callback types and TaskSystem are public (unison/types.h).
 // Invariants: a task's callback gets disjoint item ranges [begin, end) that together cover [0, itemCount) exactly
 // once, and a worker index in [0, workerCount); the caller of parallelFor() is worker 0 of the built-in pool. How
 // the items are split into ranges and which worker runs which range is free: the step only hands out work whose
 // result does not depend on it (each item writes only its own outputs; per-worker data is scratch), which is what
 // keeps every answer identical for any thread count.
 #pragma once
+
+#include <unison/types.h>
 
 #include <atomic>
 #include <condition_variable>
@@ -22,22 +24,7 @@
 
 namespace unison {
 
-/// A task body: processes items [begin, end) on worker `worker` (0 <= worker < the world's workerCount).
-using TaskCallback = void(int begin, int end, int worker, void* taskContext);
-/// Starts `task` over `itemCount` items in ranges of at least `minRange` items on the embedding job system. Returns
-/// a handle for FinishTaskCallback, or nullptr when the task already ran to completion before returning.
-using EnqueueTaskCallback = void*(TaskCallback* task, int itemCount, int minRange, void* taskContext,
-                                  void* userContext);
-/// Waits until the task of `userTask` (never nullptr) has processed every item.
-using FinishTaskCallback = void(void* userTask, void* userContext);
-
-/// The threads of one world: the callbacks of an embedding job system, or none (the built-in pool).
-struct TaskSystem {
-    int workerCount = 1;                        ///< threads the step may use, >= 1 (1: everything on the caller)
-    EnqueueTaskCallback* enqueueTask = nullptr; ///< nullptr: the built-in pool
-    FinishTaskCallback* finishTask = nullptr;   ///< must be set with enqueueTask
-    void* userContext = nullptr;                ///< passed to both callbacks
-};
+// TaskCallback, EnqueueTaskCallback, FinishTaskCallback and TaskSystem are public (unison/types.h).
 
 /// Sets a world definition's threads (fields workerCount, enqueueTask, finishTask, userTaskContext) from `tasks`.
 /// False, and nothing changes, for workerCount < 1 or only one of the two callbacks.

@@ -51,7 +51,7 @@ static void testErrorsAndVersion(void) {
     int e;
     unisonVersion v = unisonGetVersion();
     CHECK(v.major == 0 && v.minor >= 1);
-    for (e = UNISON_OK; e <= UNISON_ERROR_INTERNAL; ++e) CHECK(strcmp(unisonErrorName((unisonError)e), "unknown") != 0);
+    for (e = UNISON_OK; e <= UNISON_ERROR_WORLD_FAULT; ++e) CHECK(strcmp(unisonErrorName((unisonError)e), "unknown") != 0);
     CHECK(strcmp(unisonErrorName(UNISON_ERROR_INVALID_BODY), "invalid_body") == 0);
     CHECK(strcmp(unisonErrorName((unisonError)99), "unknown") == 0);
     CHECK(unisonLastErrorMessage() != NULL);
@@ -356,8 +356,96 @@ static void testRecording(void) {
     CHECK_CODE(unisonVerifyRecording(NULL, 0, &result), UNISON_ERROR_NULL_POINTER);
 }
 
+/* A job system of the embedding program: runs each task at once on the calling thread, counting them. */
+static int taskCount = 0;
+static void* runNow(unisonTaskCallback* task, int itemCount, int minRange, void* taskContext, void* user) {
+    int begin;
+    (void)user;
+    ++taskCount;
+    if (minRange < 1) minRange = 1;
+    for (begin = 0; begin < itemCount; begin += minRange)
+        task(begin, begin + minRange < itemCount ? begin + minRange : itemCount, 0, taskContext);
+    return NULL;
+}
+static void finishNothing(void* userTask, void* user) {
+    (void)userTask;
+    (void)user;
+}
+
+/* Per-step budgets and worker threads: a budgeted world on the built-in pool, on the embedding job system and on
+ * one thread give the same hash every step; bad settings are refused and change nothing. */
+static void testBudgetAndThreads(void) {
+    unisonWorldId worlds[3];
+    unisonBodyId id;
+    unisonStepInfo info;
+    unisonTaskSystem tasks;
+    const unisonShapeDef2 ground = unisonMakeSegment2((unisonVec2){-10, 0}, (unisonVec2){20, 0});
+    const unisonShapeDef2 box = unisonMakeBox2(0.5, 0.5);
+    uint64_t budget = unisonWorkUnitsFromMilliseconds(0.05), stored = 0, hash;
+    size_t faultSize = 0;
+    char fault[8];
+    int w, i, step;
+    CHECK(budget > 0 && unisonWorkUnitsFromMilliseconds(0.0) == 0);
+    for (w = 0; w < 3; ++w) {
+        unisonWorldDef2 def = unisonDefaultWorldDef2();
+        unisonBodyDef2 body = unisonDefaultBodyDef2();
+        def.stepBudget = budget;
+        if (w == 1) def.tasks.workerCount = 2;
+        if (w == 2) {
+            def.tasks.workerCount = 2;
+            def.tasks.enqueueTask = runNow;
+            def.tasks.finishTask = finishNothing;
+        }
+        CHECK_CODE(unisonCreateWorld2(&def, &worlds[w]), UNISON_OK);
+        body.type = UNISON_BODY_STATIC;
+        CHECK_CODE(unisonCreateBody2(worlds[w], &body, &ground, 1, &id), UNISON_OK);
+        body.type = UNISON_BODY_DYNAMIC;
+        for (i = 0; i < 80; ++i) { /* 4 towers of 20 boxes: 4 islands, and more bodies than one task's range */
+            body.position.x = 3.0 * (i % 4) + 0.01 * (i / 4);
+            body.position.y = 0.5 + 1.0 * (i / 4);
+            CHECK_CODE(unisonCreateBody2(worlds[w], &body, &box, 1, &id), UNISON_OK);
+        }
+    }
+    for (step = 0; step < 90; ++step) {
+        for (w = 0; w < 3; ++w) CHECK_CODE(unisonStep(worlds[w]), UNISON_OK);
+        CHECK(hashOf(worlds[1]) == hashOf(worlds[0]) && hashOf(worlds[2]) == hashOf(worlds[0]));
+    }
+    CHECK(taskCount > 0);
+    CHECK_CODE(unisonGetStepInfo(worlds[0], &info), UNISON_OK);
+    CHECK(info.budget == budget && info.work <= (budget > info.minimumWork ? budget : info.minimumWork) + info.overrun);
+    CHECK_CODE(unisonGetStepBudget(worlds[0], &stored), UNISON_OK);
+    CHECK(stored == budget);
+    CHECK_CODE(unisonStepWithBudget(worlds[0], 0), UNISON_OK);
+    CHECK_CODE(unisonGetStepInfo(worlds[0], &info), UNISON_OK);
+    CHECK(info.budget == 0 && info.approximateIslands == 0);
+    CHECK_CODE(unisonSetStepBudget(worlds[1], 0), UNISON_OK);
+    CHECK_CODE(unisonGetStepBudget(worlds[1], &stored), UNISON_OK);
+    CHECK(stored == 0);
+    hash = hashOf(worlds[2]);
+    tasks.workerCount = 0;
+    tasks.enqueueTask = NULL;
+    tasks.finishTask = NULL;
+    tasks.userContext = NULL;
+    CHECK_CODE(unisonSetTaskSystem(worlds[2], &tasks), UNISON_ERROR_INVALID_ARGUMENT);
+    tasks.workerCount = 2;
+    tasks.finishTask = finishNothing;
+    CHECK_CODE(unisonSetTaskSystem(worlds[2], &tasks), UNISON_ERROR_INVALID_ARGUMENT);
+    CHECK_CODE(unisonSetTaskSystem(worlds[2], NULL), UNISON_ERROR_NULL_POINTER);
+    CHECK(hashOf(worlds[2]) == hash);
+    tasks.finishTask = NULL;
+    CHECK_CODE(unisonSetTaskSystem(worlds[2], &tasks), UNISON_OK);
+    CHECK_CODE(unisonGetWorldFault(worlds[2], NULL, 0, &faultSize), UNISON_OK);
+    CHECK(faultSize == 1);
+    CHECK_CODE(unisonGetWorldFault(worlds[2], fault, sizeof fault, &faultSize), UNISON_OK);
+    CHECK(fault[0] == 0);
+    CHECK_CODE(unisonGetStepBudget(worlds[2], NULL), UNISON_ERROR_NULL_POINTER);
+    for (w = 0; w < 3; ++w) CHECK_CODE(unisonDestroyWorld(worlds[w]), UNISON_OK);
+    CHECK_CODE(unisonStepWithBudget(worlds[0], 1), UNISON_ERROR_INVALID_WORLD);
+}
+
 int main(void) {
     testErrorsAndVersion();
+    testBudgetAndThreads();
     test2d();
     test3d();
     testRecording();

@@ -278,8 +278,21 @@ TEST_CASE("bad arguments fail with a message and change nothing") {
     CHECK(w.overlapAabb({1, 1}, {0, 0}).empty());
     checkUnchanged(w, afterDestroy, snapAfter);
     CHECK(afterDestroy != hash);
-    CHECK_THROWS_AS(World2D(WorldDef2D{{0, -10}, 0.0, true}), Error);
-    CHECK_THROWS_AS(World3D(WorldDef3D{{0, kNan, 0}, 60.0, true}), Error);
+    auto def2 = [](Vec2D g, double hz) {
+        WorldDef2D d;
+        d.gravity = g;
+        d.hz = hz;
+        return d;
+    };
+    CHECK_THROWS_AS(World2D(def2({0, -10}, 0.0)), Error);
+    CHECK_THROWS_AS(World2D(def2({0, -10}, 1e-300)), Error);  // dt beyond the input policy
+    CHECK_THROWS_AS(World2D(def2({2e4, -10}, 60.0)), Error);
+    WorldDef3D def3;
+    def3.gravity = {0, kNan, 0};
+    CHECK_THROWS_AS((World3D(def3)), Error);
+    WorldDef2D badTasks;
+    badTasks.tasks.workerCount = 0;
+    CHECK_THROWS_AS((World2D(badTasks)), Error);
 
     World3D w3 = pile3();
     const std::uint64_t h3 = w3.stateHash();
@@ -297,6 +310,138 @@ TEST_CASE("bad arguments fail with a message and change nothing") {
     CHECK(w3.overlapShape(ShapeDef3D::sphere({}, 1), {}, {0, 0, 0, 0}, &error).empty());
     CHECK_FALSE(w3.rayCastClosest({0, 0, 0}, {0, 0, 0}, nullptr));
     checkUnchanged(w3, h3, s3);
+}
+
+namespace {
+
+// A job system of the embedding server, as the C API sees it: runs every task at once on the calling thread, in
+// ranges of minRange items, counting the tasks.
+struct CountingJobs {
+    int tasks = 0;
+    static void* enqueue(unisonTaskCallback* task, int itemCount, int minRange, void* taskContext, void* user) {
+        ++static_cast<CountingJobs*>(user)->tasks;
+        const int range = minRange < 1 ? 1 : minRange;
+        for (int begin = 0; begin < itemCount; begin += range)
+            task(begin, std::min(itemCount, begin + range), 0, taskContext);
+        return nullptr;
+    }
+    static void finish(void*, void*) {}
+};
+
+// A 12-row pyramid of boxes on a segment, through the C API (78 boxes in one island).
+unisonWorldId cPyramid(const unisonWorldDef2& def) {
+    unisonWorldId w;
+    REQUIRE(unisonCreateWorld2(&def, &w) == UNISON_OK);
+    unisonBodyDef2 ground = unisonDefaultBodyDef2();
+    ground.type = UNISON_BODY_STATIC;
+    const unisonShapeDef2 segment = unisonMakeSegment2({-20, 0}, {20, 0});
+    unisonBodyId id;
+    REQUIRE(unisonCreateBody2(w, &ground, &segment, 1, &id) == UNISON_OK);
+    const unisonShapeDef2 box = unisonMakeBox2(0.5, 0.5);
+    for (int row = 0; row < 12; ++row) {
+        for (int i = 0; i < 12 - row; ++i) {
+            unisonBodyDef2 d = unisonDefaultBodyDef2();
+            d.position = {-0.5 * (11 - row) + 1.0 * i, 0.5 + 1.0 * row};
+            REQUIRE(unisonCreateBody2(w, &d, &box, 1, &id) == UNISON_OK);
+        }
+    }
+    return w;
+}
+
+std::uint64_t cHash(unisonWorldId w) {
+    std::uint64_t h = 0;
+    REQUIRE(unisonGetStateHash(w, &h) == UNISON_OK);
+    return h;
+}
+
+}  // namespace
+
+TEST_CASE("budgets and threads through the C++ and C APIs: the same bits for any thread count or job system") {
+    // A tight budget: most islands get the bounded approximation, the same on every world below.
+    const std::uint64_t budget = workUnitsFromMilliseconds(0.05);
+    CHECK(budget == unisonWorkUnitsFromMilliseconds(0.05));
+    CHECK(workUnitsFromMilliseconds(-1.0) == 0);
+    unisonWorldDef2 def = unisonDefaultWorldDef2();
+    CHECK(def.stepBudget == 0);
+    CHECK(def.tasks.workerCount == 1);
+    def.stepBudget = budget;
+    const unisonWorldId one = cPyramid(def);
+    def.tasks.workerCount = 2;  // the built-in pool
+    const unisonWorldId pool = cPyramid(def);
+    CountingJobs jobs;
+    def.tasks = {3, &CountingJobs::enqueue, &CountingJobs::finish, &jobs};
+    const unisonWorldId embedded = cPyramid(def);
+    def = unisonDefaultWorldDef2();  // unbudgeted, stepped with a per-call budget instead
+    const unisonWorldId perCall = cPyramid(def);
+
+    int approximate = 0;
+    for (int step = 0; step < 60; ++step) {
+        REQUIRE(unisonStep(one) == UNISON_OK);
+        REQUIRE(unisonStep(pool) == UNISON_OK);
+        REQUIRE(unisonStep(embedded) == UNISON_OK);
+        REQUIRE(unisonStepWithBudget(perCall, budget) == UNISON_OK);
+        const std::uint64_t h = cHash(one);
+        REQUIRE(cHash(pool) == h);
+        REQUIRE(cHash(embedded) == h);
+        unisonStepInfo info;
+        REQUIRE(unisonGetStepInfo(one, &info) == UNISON_OK);
+        CHECK(info.budget == budget);
+        CHECK(info.work <= std::max(info.budget, info.minimumWork) + info.overrun);
+        approximate += info.approximateIslands;
+        unisonStepInfo perCallInfo;
+        REQUIRE(unisonGetStepInfo(perCall, &perCallInfo) == UNISON_OK);
+        CHECK(perCallInfo.work == info.work);
+        CHECK(perCallInfo.approximateIslands == info.approximateIslands);
+    }
+    CHECK(approximate > 0);
+    CHECK(jobs.tasks > 0);
+    // The per-call budget is not state: the world's own budget is part of the hash, so perCall differs from one.
+    std::uint64_t stored = 1;
+    REQUIRE(unisonGetStepBudget(perCall, &stored) == UNISON_OK);
+    CHECK(stored == 0);
+    CHECK(cHash(perCall) != cHash(one));
+    REQUIRE(unisonSetStepBudget(perCall, budget) == UNISON_OK);
+    CHECK(cHash(perCall) == cHash(one));
+
+    // Bad thread settings are refused and change nothing.
+    const std::uint64_t before = cHash(one);
+    unisonTaskSystem bad = {0, nullptr, nullptr, nullptr};
+    CHECK(unisonSetTaskSystem(one, &bad) == UNISON_ERROR_INVALID_ARGUMENT);
+    bad = {2, &CountingJobs::enqueue, nullptr, &jobs};
+    CHECK(unisonSetTaskSystem(one, &bad) == UNISON_ERROR_INVALID_ARGUMENT);
+    CHECK(unisonSetTaskSystem(one, nullptr) == UNISON_ERROR_NULL_POINTER);
+    unisonWorldDef2 badDef = unisonDefaultWorldDef2();
+    badDef.tasks.workerCount = -1;
+    unisonWorldId none;
+    CHECK(unisonCreateWorld2(&badDef, &none) == UNISON_ERROR_INVALID_ARGUMENT);
+    CHECK(cHash(one) == before);
+    const unisonTaskSystem four = {4, nullptr, nullptr, nullptr};
+    REQUIRE(unisonSetTaskSystem(one, &four) == UNISON_OK);
+    REQUIRE(unisonStep(one) == UNISON_OK);
+    REQUIRE(unisonStep(pool) == UNISON_OK);
+    CHECK(cHash(one) == cHash(pool));
+    size_t size = 0;
+    REQUIRE(unisonGetWorldFault(one, nullptr, 0, &size) == UNISON_OK);
+    CHECK(size == 1);  // "" and its NUL: no fault
+    for (unisonWorldId w : {one, pool, embedded, perCall}) CHECK(unisonDestroyWorld(w) == UNISON_OK);
+
+    // The C++ API: the same settings, the same answers as the engine's world.
+    std::vector<BodyId> ids;
+    World2D pub = pile2(&ids);
+    World2 engine = enginePile2();
+    pub.setStepBudget(budget);
+    engine.setStepBudget(budget);
+    REQUIRE(pub.setTaskSystem(TaskSystem{2}));
+    CHECK_FALSE(pub.setTaskSystem(TaskSystem{0}));
+    CHECK(pub.stepBudget() == budget);
+    for (int step = 0; step < 30; ++step) {
+        pub.step();
+        engine.step();
+        REQUIRE(pub.stateHash() == engine.stateHash());
+    }
+    CHECK(pub.stepInfo().budget == budget);
+    CHECK(pub.stepInfo().exactIslands + pub.stepInfo().approximateIslands >= 1);
+    CHECK(pub.fault().empty());
 }
 
 TEST_CASE("snapshots and rollback states continue bit-identically") {

@@ -1,5 +1,6 @@
 // unison/types.h — value types shared by the 2D and 3D worlds: body handles, body kinds, touch events, references
-// to one shape of a body, step counts, and the exception the C++ API throws when a world cannot be created.
+// to one shape of a body, step counts, the per-step budget's units, the worker-thread interface, and the exception
+// the C++ API throws when a world cannot be created.
 #pragma once
 
 #include <cstdint>
@@ -40,16 +41,47 @@ struct ShapeRef {
     int shape = 0;  ///< index into the body's shapes, in the order they were given at creation
 };
 
-/// Counts of the last step (contacts, islands, solver work); the same in 2D and 3D.
+/// Counts of the last step (contacts, islands, solver work, budget); the same in 2D and 3D.
 struct StepInfo {
     int islands = 0;                ///< islands of bodies joined by contacts
     int awakeIslands = 0;           ///< islands that were simulated (not asleep)
     int contacts = 0;               ///< contact points
     int pivots = 0;                 ///< Lemke pivots
-    std::uint64_t work = 0;         ///< deterministic work units spent by the solver
+    std::uint64_t work = 0;         ///< deterministic work units the step spent (collision, assembly, solves)
+    std::uint64_t budget = 0;       ///< the step's budget in work units (0: unlimited)
+    /// What no budget can cut (collision, bookkeeping, each awake island's minimum approximation); with a budget,
+    /// work <= max(budget, minimumWork) + overrun.
+    std::uint64_t minimumWork = 0;
+    std::uint64_t overrun = 0;      ///< work of exact attempts beyond their share (the solver checks between pivots)
+    int exactIslands = 0;           ///< islands with contacts whose LCP was solved exactly
+    int approximateIslands = 0;     ///< islands the budget left to the bounded approximation
     int failedIslands = 0;          ///< friction solves that fell back to the frictionless problem
     int unsolvedIslands = 0;        ///< islands that got no impulse at all
+    double maxResidual = 0.0;       ///< largest complementarity residual of an exact answer the step applied
+    double maxApproximateResidual = 0.0;  ///< largest residual of an approximate island's answer
     double maxPenetration = 0.0;    ///< deepest overlap among touching contacts (m)
+};
+
+/// Work units of `ms` milliseconds on the reference machine (a fixed constant, docs/budget.md), rounded down; 0 for
+/// ms <= 0. Budgets are counted in work units, never timed, so every peer makes the same choices.
+std::uint64_t workUnitsFromMilliseconds(double ms);
+
+/// A task body: processes items [begin, end) on worker `worker` (0 <= worker < the world's workerCount).
+using TaskCallback = void(int begin, int end, int worker, void* taskContext);
+/// Starts `task` over `itemCount` items in ranges of at least `minRange` items on the embedding job system. Returns
+/// a handle for FinishTaskCallback, or nullptr when the task already ran to completion before returning.
+using EnqueueTaskCallback = void*(TaskCallback* task, int itemCount, int minRange, void* taskContext,
+                                  void* userContext);
+/// Waits until the task of `userTask` (never nullptr) has processed every item.
+using FinishTaskCallback = void(void* userTask, void* userContext);
+
+/// The threads of one world: the callbacks of an embedding job system, or none (the built-in std::thread pool).
+/// Not state: results are the same bits for any worker count and any job system.
+struct TaskSystem {
+    int workerCount = 1;                        ///< threads the step may use, >= 1 (1: everything on the caller)
+    EnqueueTaskCallback* enqueueTask = nullptr; ///< nullptr: the built-in pool
+    FinishTaskCallback* finishTask = nullptr;   ///< must be set with enqueueTask
+    void* userContext = nullptr;                ///< passed to both callbacks
 };
 
 /// Thrown by the constructors of World2D and World3D: invalid settings, or a floating-point environment in which

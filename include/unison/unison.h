@@ -49,7 +49,8 @@ typedef enum unisonError {
     UNISON_ERROR_BAD_DATA = 7,          /**< a snapshot, compact state or recording was refused */
     UNISON_ERROR_CAPACITY = 8,          /**< too many worlds or bodies */
     UNISON_ERROR_FLOATING_POINT = 9,    /**< flush-to-zero, another rounding mode or excess precision is active */
-    UNISON_ERROR_INTERNAL = 10          /**< an unexpected failure inside the library (out of memory) */
+    UNISON_ERROR_INTERNAL = 10,         /**< an unexpected failure inside the library (out of memory) */
+    UNISON_ERROR_WORLD_FAULT = 11       /**< the world's state stopped being finite: it does not step until restored */
 } unisonError;
 
 /** Stable lower-case name of an error code ("ok", "invalid_argument", ...). */
@@ -110,19 +111,51 @@ typedef struct unisonShapeRef {
 /** Counts of the last step. */
 typedef struct unisonStepInfo {
     int islands, awakeIslands, contacts, pivots;
-    uint64_t work;         /**< deterministic work units spent by the solver */
-    int failedIslands;     /**< friction solves that fell back to the frictionless problem */
-    int unsolvedIslands;   /**< islands that got no impulse */
-    double maxPenetration; /**< deepest overlap among touching contacts (m) */
+    uint64_t work;                 /**< deterministic work units the step spent */
+    uint64_t budget;               /**< the step's budget in work units (0: unlimited) */
+    uint64_t minimumWork;          /**< what no budget can cut; work <= max(budget, minimumWork) + overrun */
+    uint64_t overrun;              /**< work of exact attempts beyond their share */
+    int exactIslands;              /**< islands with contacts solved exactly */
+    int approximateIslands;        /**< islands the budget left to the bounded approximation */
+    int failedIslands;             /**< friction solves that fell back to the frictionless problem */
+    int unsolvedIslands;           /**< islands that got no impulse */
+    double maxResidual;            /**< largest complementarity residual of an exact answer applied */
+    double maxApproximateResidual; /**< largest residual of an approximate island's answer */
+    double maxPenetration;         /**< deepest overlap among touching contacts (m) */
 } unisonStepInfo;
+
+/** Work units of `ms` milliseconds on the reference machine (a fixed constant, never measured at run time). */
+UNISON_API uint64_t unisonWorkUnitsFromMilliseconds(double ms);
+
+/* ---- worker threads ------------------------------------------------------------------------------------------ */
+
+/** A task body: processes items [begin, end) on worker `worker` (0 <= worker < workerCount). */
+typedef void unisonTaskCallback(int begin, int end, int worker, void* taskContext);
+/** Starts `task` over `itemCount` items in ranges of at least `minRange` on the embedding job system; returns a
+ *  handle for the finish callback, or NULL when the task already ran to completion. */
+typedef void* unisonEnqueueTaskCallback(unisonTaskCallback* task, int itemCount, int minRange, void* taskContext,
+                                        void* userContext);
+/** Waits until the task of `userTask` (never NULL) has processed every item. */
+typedef void unisonFinishTaskCallback(void* userTask, void* userContext);
+
+/** The threads of a world's step: the built-in pool (both callbacks NULL) or an embedding job system. Results are
+ *  the same bits for any worker count and job system. */
+typedef struct unisonTaskSystem {
+    int workerCount;                        /**< >= 1, default 1 (everything on the calling thread) */
+    unisonEnqueueTaskCallback* enqueueTask; /**< NULL: the built-in pool */
+    unisonFinishTaskCallback* finishTask;   /**< set together with enqueueTask */
+    void* userContext;                      /**< passed to both callbacks */
+} unisonTaskSystem;
 
 /* ---- 2D definitions ----------------------------------------------------------------------------------------- */
 
 /** 2D world settings (unisonDefaultWorldDef2()). */
 typedef struct unisonWorldDef2 {
-    unisonVec2 gravity; /**< m/s^2, default (0, -10) */
-    double hz;          /**< steps per second, default 60 */
-    int enableSleep;    /**< non-zero: islands at rest for 0.5 s sleep until touched (default 1) */
+    unisonVec2 gravity;     /**< m/s^2, default (0, -10) */
+    double hz;              /**< steps per second, default 60 */
+    int enableSleep;        /**< non-zero: islands at rest for 0.5 s sleep until touched (default 1) */
+    uint64_t stepBudget;    /**< work units per step (0 = unlimited, the default); part of the state */
+    unisonTaskSystem tasks; /**< worker threads (default: one); not state */
 } unisonWorldDef2;
 
 /** How to create a 2D body (unisonDefaultBodyDef2(): dynamic at the origin, at rest). */
@@ -193,9 +226,11 @@ typedef struct unisonRayHit2 {
 
 /** 3D world settings (unisonDefaultWorldDef3()). */
 typedef struct unisonWorldDef3 {
-    unisonVec3 gravity; /**< m/s^2, default (0, -10, 0) */
-    double hz;          /**< steps per second, default 60 */
-    int enableSleep;    /**< default 1 */
+    unisonVec3 gravity;     /**< m/s^2, default (0, -10, 0) */
+    double hz;              /**< steps per second, default 60 */
+    int enableSleep;        /**< default 1 */
+    uint64_t stepBudget;    /**< work units per step (0 = unlimited, the default); part of the state */
+    unisonTaskSystem tasks; /**< worker threads (default: one); not state */
 } unisonWorldDef3;
 
 /** How to create a 3D body (unisonDefaultBodyDef3(): dynamic at the origin, identity orientation, at rest). */
@@ -300,8 +335,20 @@ UNISON_API unisonError unisonDestroyWorld(unisonWorldId world);
 UNISON_API int unisonWorldIsValid(unisonWorldId world);
 /** 2 or 3. */
 UNISON_API unisonError unisonGetWorldDimension(unisonWorldId world, int* outDimension);
-/** Advances the world by 1/hz seconds. */
+/** Advances the world by 1/hz seconds within its step budget; UNISON_ERROR_WORLD_FAULT (nothing changes) once its
+ *  state stopped being finite (unisonGetWorldFault() says where). */
 UNISON_API unisonError unisonStep(unisonWorldId world);
+/** The same with `budget` work units (0 = unlimited) for this call only; not state (replays use the world's own). */
+UNISON_API unisonError unisonStepWithBudget(unisonWorldId world, uint64_t budget);
+/** Sets the per-step budget in work units (0 = unlimited); part of the state: every peer must use the same. */
+UNISON_API unisonError unisonSetStepBudget(unisonWorldId world, uint64_t budget);
+/** The per-step budget in work units. */
+UNISON_API unisonError unisonGetStepBudget(unisonWorldId world, uint64_t* outBudget);
+/** Sets the threads of the next steps; UNISON_ERROR_INVALID_ARGUMENT for workerCount < 1 or one callback alone. */
+UNISON_API unisonError unisonSetTaskSystem(unisonWorldId world, const unisonTaskSystem* tasks);
+/** Why the world stopped stepping, as a NUL-terminated message ("" while its state is finite); same buffer
+ *  convention as the byte buffers, the size counting the terminating NUL. */
+UNISON_API unisonError unisonGetWorldFault(unisonWorldId world, char* buffer, size_t capacity, size_t* outSize);
 /** Steps taken since creation (restored with a snapshot). */
 UNISON_API unisonError unisonGetStepCount(unisonWorldId world, uint64_t* outSteps);
 /** Counts of the last step. */

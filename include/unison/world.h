@@ -37,8 +37,24 @@ public:
     /// Live bodies in the order the step visits them.
     std::vector<BodyId> bodyIds() const;
 
-    /// Advances the world by 1/hz seconds.
+    /// Advances the world by 1/hz seconds within its step budget (stepBudget()). A world whose state stopped
+    /// being finite does not step: see fault().
     void step();
+    /// Advances by one step within `budget` work units for this call only (0 = unlimited). Not state: a recording
+    /// replays with the world's own stepBudget(), so lockstep peers should use setStepBudget() instead.
+    void step(std::uint64_t budget);
+    /// Sets the per-step budget in work units (workUnitsFromMilliseconds(); 0 = unlimited). Part of the state:
+    /// every peer must step with the same budget. Islands the budget cannot solve exactly get a bounded, flagged
+    /// approximation (StepInfo::approximateIslands); the same on every peer.
+    void setStepBudget(std::uint64_t budget);
+    /// The per-step budget in work units (0 = unlimited).
+    std::uint64_t stepBudget() const;
+    /// Sets the threads of the next steps (the built-in pool, or the embedding job system's callbacks); results
+    /// are the same bits for any of them. False (nothing changes) for workerCount < 1 or only one callback.
+    bool setTaskSystem(const TaskSystem& tasks);
+    /// Empty while every number of the state is finite; otherwise why step() stopped (the step, body and field,
+    /// e.g. a body flung to infinity). restore() of a good state clears it.
+    std::string fault() const;
     /// Steps taken since creation (restored with a snapshot).
     std::uint64_t stepCount() const;
     /// What the last step did.

@@ -63,6 +63,9 @@ struct WorldDef2D {
     Vec2D gravity{0.0, -10.0};  ///< m/s^2
     double hz = 60.0;           ///< steps per second (> 0)
     bool enableSleep = true;    ///< bodies of islands at rest for 0.5 s stop being simulated until touched
+    /// Work units one step may spend (workUnitsFromMilliseconds(); 0 = unlimited). Part of the state.
+    std::uint64_t stepBudget = 0;
+    TaskSystem tasks;  ///< worker threads of the step (default: one, the caller's); not state
 };
 
 /// A body's state after the last step.
