@@ -63,6 +63,10 @@ struct Dim2 {
     static Ang angAdd(const Ang& a, const Ang& b) { return a + b; }
     static bool finite(const Vec& v) { return std::isfinite(v.x) && std::isfinite(v.y); }
     static bool angFinite(const Ang& a) { return std::isfinite(a); }
+    /// Every component finite and within +-limit (core/input_policy.h ranges).
+    static bool componentsWithin(const Vec& v, double limit) { return within(v.x, limit) && within(v.y, limit); }
+    static bool angComponentsWithin(const Ang& a, double limit) { return within(a, limit); }
+    static bool within(double x, double limit) { return std::isfinite(x) && std::fabs(x) <= limit; }
     /// |omega| <= tol (a world's sleep test).
     static bool angWithin(const Ang& a, double tol) { return std::fabs(a) <= tol; }
     /// |omega| (rad/s).

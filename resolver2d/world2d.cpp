@@ -13,20 +13,13 @@
 #include "island.h"
 #include "resolver2d.h"
 #include "world2d_checks.h"
+#include "world_base_step.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace unison {
-
-World2::World2(const WorldDef2& def) : mDef(def) {}
-
-namespace {
-
-bool finiteVec(Vec2 v) { return std::isfinite(v.x) && std::isfinite(v.y); }
-
-}  // namespace
 
 void World2::updateBodyCenter(BodyState2& s, const BodyInfo2& info) const {
     s.center = s.position + rotate(s.rotation, info.localCenter);
@@ -71,58 +64,13 @@ BodyId World2::createBody(const BodyDef2& def, const std::vector<Shape2>& shapes
         state.velocity = def.linearVelocity;
         state.angularVelocity = def.angularVelocity;
     }
-    const BodyId id = mBodies.create(state, info);
-    if (id.isNull()) return fail("world: body capacity reached");
-    mIndex->invalidate();
-    return id;
+    return addBody(state, info, error);
 }
-
-bool World2::destroyBody(BodyId id) {
-    if (!mBodies.destroy(id)) return false;
-    mStep.cache.forgetSlot(id.index1);
-    mIndex->invalidate();
-    return true;
-}
-
-const BodyState2* World2::state(BodyId id) const { return mBodies.findHot(id); }
-
-const BodyInfo2* World2::info(BodyId id) const { return mBodies.findCold(id); }
 
 double World2::angle(BodyId id) const {
     const BodyState2* s = state(id);
     return s ? angleOf(s->rotation) : 0.0;
 }
-
-bool World2::setVelocity(BodyId id, Vec2 v, double w) {
-    const int d = mBodies.denseIndex(id);
-    if (d < 0 || !policy::within(v.x, policy::kMaxSpeed) || !policy::within(v.y, policy::kMaxSpeed) ||
-        !policy::within(w, policy::kMaxAngularSpeed))
-        return false;
-    BodyInfo2& info = mBodies.cold(d);
-    if (info.type == BodyType::staticBody) return false;
-    mBodies.hot(d).velocity = v;
-    mBodies.hot(d).angularVelocity = w;
-    info.awake = true;
-    info.sleepTime = 0.0;
-    return true;
-}
-
-bool World2::applyImpulse(BodyId id, Vec2 impulse, Vec2 worldPoint) {
-    const int d = mBodies.denseIndex(id);
-    if (d < 0 || !policy::within(impulse.x, policy::kMaxImpulse) || !policy::within(impulse.y, policy::kMaxImpulse) ||
-        !finiteVec(worldPoint))
-        return false;
-    BodyInfo2& info = mBodies.cold(d);
-    if (info.type != BodyType::dynamicBody) return false;
-    BodyState2& s = mBodies.hot(d);
-    s.velocity = s.velocity + info.invMass * impulse;
-    s.angularVelocity += info.invInertia * cross(worldPoint - s.center, impulse);
-    info.awake = true;
-    info.sleepTime = 0.0;
-    return true;
-}
-
-std::vector<BodyId> World2::bodyIds() const { return mBodies.ids(); }
 
 /// What the shared step (core/world_step.h) needs of the 2D world: its bodies and settings, the narrowphase, and
 /// the planar body math.
@@ -135,7 +83,7 @@ struct World2::Hooks {
     double acceptResidual() const { return world.mDef.acceptResidual; }
     /// 2D keeps every speculative point the narrowphase returns (its targets were measured that way).
     double speculativeBand() const { return std::numeric_limits<double>::infinity(); }
-    double worldInvInertia(const BodyState2&, const BodyInfo2& info) const { return info.invInertia; }
+    double worldInvInertia(const BodyState2& s, const BodyInfo2& info) const { return World2::worldInvInertia(s, info); }
 
     void integrate(int d, Vec2 v, double w, double dt) {
         BodyState2& s = world.mBodies.hot(d);
@@ -162,23 +110,18 @@ struct World2::Hooks {
     bool parallelNarrowphase() const { return true; }
 };
 
-bool World2::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef, tasks); }
-
-void World2::step() { step(mDef.stepBudget); }
-
-void World2::step(std::uint64_t budget) {
-    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
-    mIndex->invalidate();
-    Hooks hooks{*this};
-    mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
-    mContactPoints.clear();
-    for (const StepContact<Dim2>& c : mStep.contacts()) {
-        const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)
-        mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,
-                                  c.normalImpulse, dot(c.tangentImpulse, perp), c.feature});
-    }
-    ++mStepCount;
-    mFault = findFault();
+ContactPoint2 World2::contactPoint(const StepContact<Dim2>& c) const {
+    const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)
+    return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
+            dot(c.tangentImpulse, perp), c.feature};
 }
+
+// The shared step and body operations, instantiated here where Hooks is complete (core/world_base_step.h).
+using WorldBase2 = WorldBase<World2, Dim2, WorldDef2, BodyState2, BodyInfo2, ContactPoint2>;
+template bool WorldBase2::destroyBody(BodyId);
+template BodyId WorldBase2::addBody(const BodyState2&, const BodyInfo2&, std::string*);
+template void WorldBase2::step(std::uint64_t);
+template bool WorldBase2::setVelocity(BodyId, const Vec2&, const double&);
+template bool WorldBase2::applyImpulse(BodyId, const Vec2&, const Vec2&);
 
 }  // namespace unison

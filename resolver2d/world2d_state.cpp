@@ -15,6 +15,7 @@
 
 #include "compact_state.h"
 #include "state_transfer.h"
+#include "world_base_state.h"
 #include "world2d_checks.h"
 
 #include <cmath>
@@ -133,37 +134,10 @@ void World2::transferState(Io& io, Self& world) {
     }
 }
 
-std::uint64_t World2::stateHash() const {
-    const std::vector<std::uint8_t> bytes = stateBytes([&](ByteSink& sink) { transferState(sink, *this); });
-    return hash64(bytes.data(), bytes.size());
-}
-
-std::vector<std::uint8_t> World2::snapshot() const {
-    return frameSnapshot(SnapshotKind::world2, std::uint64_t(mBodies.size()),
-                         stateBytes([&](ByteSink& sink) { transferState(sink, *this); }));
-}
-
-bool World2::restore(const std::uint8_t* data, std::size_t size, std::string* error) {
-    World2 fresh;
-    if (!readSnapshot(data, size, SnapshotKind::world2, fresh, error,
-                      [](ByteSource& source, World2& w) { transferState(source, w); }))
-        return false;
-    keepExecution(mDef, fresh.mDef);
-    fresh.mStep.takeScratch(mStep);
-    *this = std::move(fresh);  // only now is the live world replaced
-    return true;
-}
-
-std::vector<StateField> World2::stateFields() const {
-    return namedFields([&](FieldSink& sink) { transferState(sink, *this); });
-}
-
 // ---- Compact (rollback) state: core/compact_state.h ---------------------------------------------------------
 
-namespace {
-
 /// The doubles of the 2D world that a tick can change, in the compact state's order.
-struct CompactFields2 {
+struct World2::CompactFields {
     static constexpr int kPose = 6, kVelocity = 3, kGravity = 2;
     template <class H, class Fn>
     static void pose(H& s, Fn f) {
@@ -187,20 +161,13 @@ struct CompactFields2 {
     }
 };
 
-}  // namespace
-
-void World2::saveCompact(CompactState& out) const {
-    unison::saveCompact<CompactFields2>(out, mStepCount, mDef, mBodies, mStep.cache, mStep.touching);
-}
-
-bool World2::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
-    mIndex->invalidate();
-    if (!unison::restoreCompact<CompactFields2>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
-        return false;
-    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
-    // still be out of range, the world says so and does not step on them.
-    mFault = findFault();
-    return true;
-}
+// The state entry points (core/world_base_state.h) over transferState(), instantiated here next to it.
+using WorldBase2 = WorldBase<World2, Dim2, WorldDef2, BodyState2, BodyInfo2, ContactPoint2>;
+template std::uint64_t WorldBase2::stateHash() const;
+template std::vector<std::uint8_t> WorldBase2::snapshot() const;
+template bool WorldBase2::restore(const std::uint8_t*, std::size_t, std::string*);
+template std::vector<StateField> WorldBase2::stateFields() const;
+template void WorldBase2::saveCompact(CompactState&) const;
+template bool WorldBase2::restoreCompact(const std::uint8_t*, std::size_t, std::string*);
 
 }  // namespace unison

@@ -60,6 +60,12 @@ struct Dim3 {
     static Ang angAdd(const Ang& a, const Ang& b) { return add(a, b); }
     static bool finite(const Vec& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
     static bool angFinite(const Ang& a) { return finite(a); }
+    /// Every component finite and within +-limit (core/input_policy.h ranges).
+    static bool componentsWithin(const Vec& v, double limit) {
+        return within(v.x(), limit) && within(v.y(), limit) && within(v.z(), limit);
+    }
+    static bool angComponentsWithin(const Ang& a, double limit) { return componentsWithin(a, limit); }
+    static bool within(double x, double limit) { return std::isfinite(x) && std::fabs(x) <= limit; }
     /// |omega| <= tol (a world's sleep test), compared in squares.
     static bool angWithin(const Ang& a, double tol) { return dot(a, a) <= tol * tol; }
     /// |omega| (rad/s).

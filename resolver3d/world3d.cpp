@@ -11,6 +11,7 @@
 #include "island.h"
 #include "resolver3d.h"
 #include "world3d_checks.h"
+#include "world_base_step.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,8 +19,6 @@
 namespace unison {
 
 using D3 = Dim3;
-
-World3::World3(const WorldDef3& def) : mDef(def) {}
 
 BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error) {
     auto fail = [&](const std::string& why) {
@@ -68,60 +67,17 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
         state.velocity = def.linearVelocity;
         state.angularVelocity = def.angularVelocity;
     }
-    const BodyId id = mBodies.create(state, info);
-    if (id.isNull()) return fail("world: body capacity reached");
-    mIndex->invalidate();
-    return id;
+    return addBody(state, info, error);
 }
-
-bool World3::destroyBody(BodyId id) {
-    if (!mBodies.destroy(id)) return false;
-    mStep.cache.forgetSlot(id.index1);
-    mIndex->invalidate();
-    return true;
-}
-
-const BodyState3* World3::state(BodyId id) const { return mBodies.findHot(id); }
-
-const BodyInfo3* World3::info(BodyId id) const { return mBodies.findCold(id); }
 
 Transform3 World3::transform(BodyId id) const {
     const BodyState3* s = state(id);
     return s ? Transform3{s->position, toMatrix(s->rotation)} : Transform3{};
 }
 
-bool World3::setVelocity(BodyId id, const Vec3& v, const Vec3& w) {
-    const int d = mBodies.denseIndex(id);
-    const auto within = [](const Vec3& x, double limit) {
-        return policy::within(x.x(), limit) && policy::within(x.y(), limit) && policy::within(x.z(), limit);
-    };
-    if (d < 0 || !within(v, policy::kMaxSpeed) || !within(w, policy::kMaxAngularSpeed)) return false;
-    BodyInfo3& info = mBodies.cold(d);
-    if (info.type == BodyType::staticBody) return false;
-    mBodies.hot(d).velocity = v;
-    mBodies.hot(d).angularVelocity = w;
-    info.awake = true;
-    info.sleepTime = 0.0;
-    return true;
+Mat3 World3::worldInvInertia(const BodyState3& s, const BodyInfo3& info) {
+    return rotateTensor(toMatrix(s.rotation), info.invInertia);
 }
-
-bool World3::applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint) {
-    const int d = mBodies.denseIndex(id);
-    const bool small = policy::within(impulse.x(), policy::kMaxImpulse) && policy::within(impulse.y(), policy::kMaxImpulse) &&
-                       policy::within(impulse.z(), policy::kMaxImpulse);
-    if (d < 0 || !small || !D3::finite(worldPoint)) return false;
-    BodyInfo3& info = mBodies.cold(d);
-    if (info.type != BodyType::dynamicBody) return false;
-    BodyState3& s = mBodies.hot(d);
-    const Mat3 invI = rotateTensor(toMatrix(s.rotation), info.invInertia);  // world-frame I^-1 = R I_b^-1 R^T
-    s.velocity = D3::add(s.velocity, D3::scale(info.invMass, impulse));
-    s.angularVelocity = D3::add(s.angularVelocity, mul(invI, D3::cross(D3::sub(worldPoint, s.center), impulse)));
-    info.awake = true;
-    info.sleepTime = 0.0;
-    return true;
-}
-
-std::vector<BodyId> World3::bodyIds() const { return mBodies.ids(); }
 
 /// What the shared step (core/world_step.h) needs of the 3D world: its bodies and settings, the narrowphase
 /// (meshes through sphere trees), and the body math of quaternions and inertia tensors.
@@ -133,10 +89,7 @@ struct World3::Hooks {
     int frictionDirections() const { return D3::frictionDirectionCount(world.mDef.frictionDirections); }
     double acceptResidual() const { return world.mDef.acceptResidual; }
     double speculativeBand() const { return world.mDef.speculativeBand; }
-    /// World-frame I^-1 = R I_b^-1 R^T.
-    Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info) const {
-        return rotateTensor(toMatrix(s.rotation), info.invInertia);
-    }
+    Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info) const { return World3::worldInvInertia(s, info); }
 
     void integrate(int d, const Vec3& v, const Vec3& w, double dt) {
         BodyState3& s = world.mBodies.hot(d);
@@ -174,22 +127,17 @@ struct World3::Hooks {
     bool parallelNarrowphase() const { return !world.mCapture; }
 };
 
-bool World3::setTaskSystem(const TaskSystem& tasks) { return setTaskFields(mDef, tasks); }
-
-void World3::step() { step(mDef.stepBudget); }
-
-void World3::step(std::uint64_t budget) {
-    if (!mFault.empty()) return;  // never step a state that holds NaN or infinity
-    mIndex->invalidate();
-    mCandidates.clear();
-    Hooks hooks{*this};
-    mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
-    mContactPoints.clear();
-    for (const StepContact<Dim3>& c : mStep.contacts())
-        mContactPoints.push_back({mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation,
-                                  c.normalImpulse, c.tangentImpulse, c.feature});
-    ++mStepCount;
-    mFault = findFault();
+ContactPoint3 World3::contactPoint(const StepContact<Dim3>& c) const {
+    return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
+            c.tangentImpulse, c.feature};
 }
+
+// The shared step and body operations, instantiated here where Hooks is complete (core/world_base_step.h).
+using WorldBase3 = WorldBase<World3, Dim3, WorldDef3, BodyState3, BodyInfo3, ContactPoint3>;
+template bool WorldBase3::destroyBody(BodyId);
+template BodyId WorldBase3::addBody(const BodyState3&, const BodyInfo3&, std::string*);
+template void WorldBase3::step(std::uint64_t);
+template bool WorldBase3::setVelocity(BodyId, const Vec3&, const Vec3&);
+template bool WorldBase3::applyImpulse(BodyId, const Vec3&, const Vec3&);
 
 }  // namespace unison

@@ -20,6 +20,8 @@
 #include "shapes3d.h"
 #include "state_io.h"
 #include "step_support.h"
+#include "world_base.h"
+#include "world_settings.h"
 #include "world_step.h"
 
 #include <cstdint>
@@ -41,15 +43,10 @@ struct BodyDef3 {
     Vec3 angularVelocity = Vec3::Zero();
 };
 
-/// World settings (the same meaning as WorldDef2's).
-struct WorldDef3 {
-    Vec3 gravity{0.0, -10.0, 0.0};       ///< m/s^2 (y up, as in the 2D world)
-    double hz = 60.0;                    ///< steps per second
-    double restitutionThreshold = 1.0;   ///< approach speeds below this (m/s) use e = 0
-    double linearSlop = 0.005;           ///< allowed penetration (m)
-    double baumgarte = 0.2;              ///< fraction of the penetration beyond the slop removed per step
-    double maxCorrectionSpeed = 3.0;     ///< cap of the position-correction velocity (m/s)
-    double speculativeDistance = 0.02;   ///< contacts this far apart are already in the LCP (m)
+/// World settings of the 3D world: the shared ones (core/world_settings.h), gravity, the pyramid's directions and
+/// the speculative band.
+struct WorldDef3 : WorldSettings {
+    Vec3 gravity{0.0, -10.0, 0.0};  ///< m/s^2 (y up, as in the 2D world)
     /// A speculative point (separation s > 0) enters the LCP, and joins its two bodies' islands, only when the
     /// bodies' relative normal speed u before the solve (< 0 when closing) brings it within this band in one
     /// step: s + min(u, 0) / hz < speculativeBand (m). Resting neighbours 1-2 cm apart, and the far points that
@@ -59,43 +56,22 @@ struct WorldDef3 {
     /// g dt^2 at 60 Hz, what a body can fall relative to its support in one step. Set it >= speculativeDistance
     /// plus the reach to keep every point, as the 2D world does.
     double speculativeBand = 0.01;
-    /// Tangential speeds below this (m/s) are exactly 0 in the friction LCP. The 2D world uses 1e-7 (its settled
-    /// pyramid's creep crossed 1e-8 after ~20 s); here 1e-7 made the 100-cube column pile of bench_world3d slower
-    /// (4.5 -> 7.6 ms/step), so 3D keeps 1e-8 until a 3D case shows the same creep.
-    double tangentDeadZone = 1e-8;
-    int frictionDirections = 4;          ///< tangent directions of the pyramid (even, >= 4)
-    bool enableSleep = true;
-    double linearSleepTolerance = 0.01;  ///< m/s
-    double angularSleepTolerance = 2.0 / 180.0 * 3.141592653589793;  ///< rad/s
-    double timeToSleep = 0.5;            ///< s
-    /// A friction solve that ends `numerical_failure` is still used when its scaled residual is at most this, as
-    /// in 2D (WorldDef2::acceptResidual); beyond it the island falls back to the frictionless LCP. It was 0 (never)
-    /// until the cube piles of bench_world3d showed such answers at 1.1e-9 to 1.2e-8 dropping their friction.
-    double acceptResidual = 1e-6;
-    /// Per-island solver options; maxPivots 0 = 2n + 100 per island LCP. Unlike 2D, warm starts keep the
-    /// `uniform` covering (LcpOptions::WarmCovering): on the cube piles of bench_world3d, `violated` took more
-    /// pivots with 49-100 cubes (100: 11377 against 5818 over 300 steps, 5 failed islands against 0) and fewer
-    /// only with 144 (65816 against 161656). No block principal rounds (LcpOptions::blockPivotRounds): on the
-    /// 100-cube piles they repaired none of 673 refused guesses (column pile, 300 steps; heap, 150 steps), and
-    /// without them the piles of 49-100 cubes take the same pivots; they cost a factorisation each.
-    LcpOptions lcp = [] {
-        LcpOptions o;
-        o.blockPivotRounds = 0;
-        return o;
-    }();
-    /// Work units one step may spend (core/step_budget.h; work::fromMilliseconds converts a time on the reference
-    /// machine), 0 = unlimited. Islands the budget cannot solve exactly get a bounded approximation (StepStats
-    /// counts them). Part of the state: every peer must step with the same budget.
-    std::uint64_t stepBudget = 0;
-    /// Threads a step may use (>= 1). Not state: the answer is the same bits for any count.
-    int workerCount = 1;
-    /// An embedding job system (core/task_system.h), both or neither; none: the world's own std::thread pool when
-    /// workerCount > 1. Not state.
-    EnqueueTaskCallback* enqueueTask = nullptr;
-    FinishTaskCallback* finishTask = nullptr;
-    void* userTaskContext = nullptr;  ///< passed to enqueueTask and finishTask
+    int frictionDirections = 4;  ///< tangent directions of the pyramid (even, >= 4)
+
+    WorldDef3() {
+        // The 2D world uses 1e-7 (its settled pyramid's creep crossed 1e-8 after ~20 s); here 1e-7 made the
+        // 100-cube column pile of bench_world3d slower (4.5 -> 7.6 ms/step), so 3D keeps 1e-8 until a 3D case
+        // shows the same creep.
+        tangentDeadZone = 1e-8;
+        // Warm starts keep the `uniform` covering (LcpOptions::WarmCovering): on the cube piles of bench_world3d,
+        // `violated` took more pivots with 49-100 cubes (100: 11377 against 5818 over 300 steps, 5 failed islands
+        // against 0) and fewer only with 144. No block principal rounds (LcpOptions::blockPivotRounds): on the
+        // 100-cube piles they repaired none of 673 refused guesses, and without them the piles of 49-100 cubes
+        // take the same pivots; they cost a factorisation each.
+        lcp.blockPivotRounds = 0;
+    }
 };
-static_assert(sizeof(WorldDef3) == 224, "WorldDef3 changed: serialise the new field (world3d_state.cpp)");
+static_assert(sizeof(WorldDef3) == 232, "WorldDef3 changed: serialise the new field (world3d_state.cpp)");
 
 /// Hot per-body state: the only thing the solver writes. 16 doubles, 128 bytes, no padding.
 struct BodyState3 {
@@ -136,88 +112,20 @@ using ContactEvent3 = TouchEvent;
 /// What the last step did (core/world_step.h).
 using StepStats3 = StepStats;
 
-class World3 {
+class World3 : public WorldBase<World3, Dim3, WorldDef3, BodyState3, BodyInfo3, ContactPoint3> {
 public:
-    explicit World3(const WorldDef3& def = {});
+    explicit World3(const WorldDef3& def = {}) : WorldBase(def) {}
 
     /// Creates a body with its shapes (body frame). Returns a null id and a message when the definition is invalid
     /// (values outside core/input_policy.h's ranges, an inconsistent shape, a dynamic body without mass, a plane on
     /// a moving body, capacity); the world is unchanged.
     BodyId createBody(const BodyDef3& def, const std::vector<Shape3>& shapes, std::string* error = nullptr);
-    /// Removes a body and its warm-start entries; false for a stale or null id. Its contacts end (end events next
-    /// step).
-    bool destroyBody(BodyId id);
-
-    /// Advances by one step of 1/hz seconds within def().stepBudget. A world whose state is no longer finite
-    /// (fault()) does not step.
-    void step();
-    /// Advances by one step with `budget` work units (0 = unlimited) instead of def().stepBudget, for this call only
-    /// (not recorded in the state: a replay steps with def().stepBudget).
-    void step(std::uint64_t budget);
-    /// Sets def().stepBudget (work units, 0 = unlimited).
-    void setStepBudget(std::uint64_t budget) { mDef.stepBudget = budget; }
-    /// Sets the threads of the next steps: def().workerCount and the job-system callbacks (none: the built-in pool).
-    /// False (and nothing changes) for workerCount < 1 or only one of the two callbacks.
-    bool setTaskSystem(const TaskSystem& tasks);
-    /// Empty while every number of the state is finite. When a step overflows (a body flung to infinity), the
-    /// message names the step, the body and the field, and step() does nothing until restore() replaces the state
-    /// (world3d_checks.cpp).
-    const std::string& fault() const { return mFault; }
-
-    int bodyCount() const { return mBodies.size(); }
-    bool valid(BodyId id) const { return mBodies.valid(id); }
-    const BodyState3* state(BodyId id) const;
-    const BodyInfo3* info(BodyId id) const;
     /// The body's transform (origin and rotation matrix); identity for an invalid id.
     Transform3 transform(BodyId id) const;
-    /// Sets the velocity of a body (wakes it). False (nothing changes) for static bodies, invalid ids or values
-    /// outside core/input_policy.h's ranges.
-    bool setVelocity(BodyId id, const Vec3& v, const Vec3& w);
-    /// Sets gravity (m/s^2); false (nothing changes) outside the policy's range.
-    bool setGravity(const Vec3& g) {
-        if (!policy::within(g.x(), policy::kMaxGravity) || !policy::within(g.y(), policy::kMaxGravity) ||
-            !policy::within(g.z(), policy::kMaxGravity))
-            return false;
-        mDef.gravity = g;
-        return true;
-    }
-    const WorldDef3& def() const { return mDef; }
 
     /// Keeps every narrowphase candidate point of the next steps (for drawing the paper's fig. 5).
     void captureCandidates(bool on) { mCapture = on; }
     const std::vector<ManifoldPoint3>& candidates() const { return mCandidates; }
-
-    std::vector<BodyId> bodyIds() const;
-    const std::vector<ContactPoint3>& contacts() const { return mContactPoints; }
-    const std::vector<ContactEvent3>& beginEvents() const { return mStep.beginEvents(); }
-    const std::vector<ContactEvent3>& endEvents() const { return mStep.endEvents(); }
-    const StepStats3& stats() const { return mStep.stats(); }
-    std::uint64_t stepCount() const { return mStepCount; }
-
-    /// Applies an impulse (N s) at a world point: changes the linear and angular velocity and wakes the body.
-    /// False (nothing changes) for invalid ids, non-dynamic bodies, a non-finite point or an impulse outside the
-    /// policy's range.
-    bool applyImpulse(BodyId id, const Vec3& impulse, const Vec3& worldPoint);
-
-    /// 64-bit hash (XXH3) of the canonical serialisation of everything that affects the future: settings,
-    /// step count, body store (slots, generations, free list, dense order, transforms, velocities, mass
-    /// properties, shapes incl. mesh geometry, sleep state), warm-start cache and touching pairs. It is the hash
-    /// of snapshot()'s payload (resolver3d/world3d_state.cpp).
-    std::uint64_t stateHash() const;
-    /// The whole state in the versioned snapshot container of core/state_io.h (world kind 3).
-    std::vector<std::uint8_t> snapshot() const;
-    /// Replaces this world's state with a snapshot. The data is parsed and checked into a fresh world first
-    /// (meshes get their sphere trees rebuilt); on any problem (corrupt, truncated, a 2D snapshot, other build
-    /// flags, invalid values) returns false with a reason in *error and this world is untouched. The last step's
-    /// outputs (contacts, events, statistics) are not state: they are empty after a restore until the next step.
-    bool restore(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
-    /// Every state field with its name and body (for snapshot diffs and desync reports).
-    std::vector<StateField> stateFields() const;
-    /// Rollback state: only what a tick can change (core/compact_state.h), into `out` (its memory is reused).
-    void saveCompact(CompactState& out) const;
-    /// Restores a saveCompact() of this world while it holds the same bodies; false with *error (world untouched)
-    /// otherwise. The last step's contacts, events and statistics stay those of the last step() call.
-    bool restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error = nullptr);
 
     // Scene queries (resolver3d/query3d.cpp): exact on every shape type, answers in a total order (core/
     // scene_index.h); a non-finite argument or a zero ray translation gives no answer.
@@ -233,27 +141,28 @@ public:
     std::vector<ShapeRef> overlapShape(const Shape3& shape, const Transform3& xf) const;
 
 private:
+    friend class WorldBase<World3, Dim3, WorldDef3, BodyState3, BodyInfo3, ContactPoint3>;
     struct Hooks;  // what core/world_step.h needs of this world (world3d.cpp)
+    static constexpr SnapshotKind kSnapshotKind = SnapshotKind::world3;
+    struct CompactFields;  // the doubles a tick can change (world3d_state.cpp)
+
     const SceneIndex<3>& sceneIndex() const;
     std::pair<const Shape3&, Transform3> placedShape(const ShapeRef& ref) const;
     template <class Visit>
     void castRay(const Vec3& origin, const Vec3& translation, bool closest, Visit&& visit) const;
+    void beforeStep() { mCandidates.clear(); }
+    ContactPoint3 contactPoint(const StepContact<Dim3>& c) const;
+    /// World-frame I^-1 = R I_b^-1 R^T.
+    static Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info);
+    void keepOnRestore(World3& fresh) const { fresh.mCapture = mCapture; }  // a viewing switch, not state
     /// The one canonical walk over the state (resolver3d/world3d_state.cpp); Self is World3 or const World3.
     template <class Io, class Self>
     static void transferState(Io& io, Self& world);
-
-    /// The fault() message for the current state: empty when every hot body record is finite.
+    /// The fault() message for the current state: empty when every hot body record is finite (world3d_checks.cpp).
     std::string findFault() const;
 
-    WorldDef3 mDef;
-    BodyStore<BodyState3, BodyInfo3> mBodies;
-    WorldStep<Dim3> mStep;  // the warm-start cache and touching pairs (state), the step's scratch and outputs
-    std::vector<ContactPoint3> mContactPoints;
     bool mCapture = false;
     std::vector<ManifoldPoint3> mCandidates;
-    std::uint64_t mStepCount = 0;
-    std::string mFault;  // see fault(); not state (a state that is not finite cannot be snapshotted)
-    std::unique_ptr<SceneIndex<3>> mIndex = std::make_unique<SceneIndex<3>>();  // derived from the bodies, never hashed
 };
 
 }  // namespace unison

@@ -15,6 +15,7 @@
 
 #include "compact_state.h"
 #include "state_transfer.h"
+#include "world_base_state.h"
 #include "world3d_checks.h"
 
 #include <cmath>
@@ -244,38 +245,10 @@ void World3::transferState(Io& io, Self& world) {
     }
 }
 
-std::uint64_t World3::stateHash() const {
-    const std::vector<std::uint8_t> bytes = stateBytes([&](ByteSink& sink) { transferState(sink, *this); });
-    return hash64(bytes.data(), bytes.size());
-}
-
-std::vector<std::uint8_t> World3::snapshot() const {
-    return frameSnapshot(SnapshotKind::world3, std::uint64_t(mBodies.size()),
-                         stateBytes([&](ByteSink& sink) { transferState(sink, *this); }));
-}
-
-bool World3::restore(const std::uint8_t* data, std::size_t size, std::string* error) {
-    World3 fresh;
-    if (!readSnapshot(data, size, SnapshotKind::world3, fresh, error,
-                      [](ByteSource& source, World3& w) { transferState(source, w); }))
-        return false;
-    fresh.mCapture = mCapture;  // a viewing switch of this object, not simulation state
-    keepExecution(mDef, fresh.mDef);
-    fresh.mStep.takeScratch(mStep);
-    *this = std::move(fresh);   // only now is the live world replaced
-    return true;
-}
-
-std::vector<StateField> World3::stateFields() const {
-    return namedFields([&](FieldSink& sink) { transferState(sink, *this); });
-}
-
 // ---- Compact (rollback) state: core/compact_state.h ---------------------------------------------------------
 
-namespace {
-
 /// The doubles of the 3D world that a tick can change, in the compact state's order.
-struct CompactFields3 {
+struct World3::CompactFields {
     static constexpr int kPose = 10, kVelocity = 6, kGravity = 3;
     template <class V, class Fn>
     static void vec(V& v, Fn& f) {
@@ -303,20 +276,13 @@ struct CompactFields3 {
     }
 };
 
-}  // namespace
-
-void World3::saveCompact(CompactState& out) const {
-    unison::saveCompact<CompactFields3>(out, mStepCount, mDef, mBodies, mStep.cache, mStep.touching);
-}
-
-bool World3::restoreCompact(const std::uint8_t* data, std::size_t size, std::string* error) {
-    mIndex->invalidate();
-    if (!unison::restoreCompact<CompactFields3>(data, size, mStepCount, mDef, mBodies, mStep.cache, mStep.touching, error))
-        return false;
-    // A compact state is checked by its checksum only (it is this process's own rollback state); should its values
-    // still be out of range, the world says so and does not step on them.
-    mFault = findFault();
-    return true;
-}
+// The state entry points (core/world_base_state.h) over transferState(), instantiated here next to it.
+using WorldBase3 = WorldBase<World3, Dim3, WorldDef3, BodyState3, BodyInfo3, ContactPoint3>;
+template std::uint64_t WorldBase3::stateHash() const;
+template std::vector<std::uint8_t> WorldBase3::snapshot() const;
+template bool WorldBase3::restore(const std::uint8_t*, std::size_t, std::string*);
+template std::vector<StateField> WorldBase3::stateFields() const;
+template void WorldBase3::saveCompact(CompactState&) const;
+template bool WorldBase3::restoreCompact(const std::uint8_t*, std::size_t, std::string*);
 
 }  // namespace unison
