@@ -101,10 +101,10 @@ Box2dV3Peer::Box2dV3Peer(const json& scene, const std::string& what, int subStep
         const std::string path = what + ".bodies[" + std::to_string(i) + "]";
         const json& jb = (*bodies)[i];
         b2BodyDef bd = b2DefaultBodyDef();
-        const jsonio::BodyKind kind = jsonio::bodyKind(jb, path);
-        bd.type = kind == jsonio::BodyKind::staticBody      ? b2_staticBody
-                  : kind == jsonio::BodyKind::kinematicBody ? b2_kinematicBody
-                                                            : b2_dynamicBody;
+        const BodyType kind = jsonio::bodyType(jb, path);
+        bd.type = kind == BodyType::staticBody      ? b2_staticBody
+                  : kind == BodyType::kinematicBody ? b2_kinematicBody
+                                                    : b2_dynamicBody;
         bd.position = vecOr(jb, path, "position", b2Vec2{0.0f, 0.0f});
         bd.rotation = b2MakeRot(float(numberOr(jb, path, "angle", 0.0)));
         bd.linearVelocity = vecOr(jb, path, "linear_velocity", b2Vec2{0.0f, 0.0f});

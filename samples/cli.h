@@ -88,11 +88,6 @@ int viewCommand(const std::string& recordingFile, const std::string& outFile, co
 /// snapshot files. Returns 0 when equal, 1 when they differ; a bad file throws InputError.
 int diffCommand(const std::string& fileA, const std::string& fileB, std::ostream& out);
 
-/// `unison run` for a scene with "dimension": 3 (runScene dispatches to it); relative `obj` paths are resolved
-/// against the folder of `what` (the scene file).
-int runScene3(const nlohmann::json& scene, const std::string& what, int steps, int hashEvery, std::ostream& out,
-              const RunSnapshot& snapshot = {}, const RunBudget& budget = {});
-
 /// A state hash as the 16 lower-case hex digits the run output prints.
 std::string hashHex(std::uint64_t hash);
 

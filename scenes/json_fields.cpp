@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 
 namespace unison::jsonio {
 
@@ -257,15 +258,24 @@ Material material(const nlohmann::json& shape, const std::string& path) {
     return m;
 }
 
-BodyKind bodyKind(const nlohmann::json& body, const std::string& path) {
+BodyType bodyType(const nlohmann::json& body, const std::string& path) {
     const nlohmann::json* t = member(body, path, "type", false);
-    if (!t) return BodyKind::dynamicBody;
+    if (!t) return BodyType::dynamicBody;
     if (!t->is_string()) fail(path + ".type", "expected a string");
     const std::string type = t->get<std::string>();
-    if (type == "static") return BodyKind::staticBody;
-    if (type == "kinematic") return BodyKind::kinematicBody;
+    if (type == "static") return BodyType::staticBody;
+    if (type == "kinematic") return BodyType::kinematicBody;
     if (type != "dynamic") fail(path + ".type", "expected \"static\", \"kinematic\" or \"dynamic\"");
-    return BodyKind::dynamicBody;
+    return BodyType::dynamicBody;
+}
+
+void readWorldSettings(const nlohmann::json& scene, const std::string& what, WorldSettings& def) {
+    def.hz = numberInOr(scene, what, "hz", policy::kMinHz, policy::kMaxHz, def.hz);
+    def.restitutionThreshold =
+        numberInOr(scene, what, "restitution_threshold", 0.0, policy::kMaxRestitutionThreshold, def.restitutionThreshold);
+    if (const nlohmann::json* sl = member(scene, what, "sleep", false)) def.enableSleep = boolean(*sl, what + ".sleep");
+    if (const nlohmann::json* b = member(scene, what, "step_budget", false))
+        def.stepBudget = std::uint64_t(integer(*b, what + ".step_budget", 0, std::numeric_limits<int>::max()));
 }
 
 }  // namespace unison::jsonio

@@ -8,6 +8,9 @@
 #pragma once
 
 #include "input_policy.h"
+#include "world_settings.h"
+
+#include <unison/types.h>
 
 #include <nlohmann/json.hpp>
 
@@ -71,9 +74,28 @@ struct Material {
 /// Reads "density", "friction" and "restitution" of a shape object (defaults above), checking their ranges.
 Material material(const nlohmann::json& shape, const std::string& path);
 
-/// Body kinds of the scene files, in the order of BodyType (static_cast is exact).
-enum class BodyKind { staticBody = 0, kinematicBody = 1, dynamicBody = 2 };
 /// Reads a body's "type" ("static", "kinematic", "dynamic"; default dynamic).
-BodyKind bodyKind(const nlohmann::json& body, const std::string& path);
+BodyType bodyType(const nlohmann::json& body, const std::string& path);
+
+/// Reads the scene keys both dimensions share into `def`: "hz", "restitution_threshold", "sleep" and "step_budget"
+/// (work units per step, core/step_budget.h); absent keys keep def's values.
+void readWorldSettings(const nlohmann::json& scene, const std::string& what, WorldSettings& def);
+
+/// Creates the scene's "bodies" in `world` in file order; readBody(json, path) returns a spec with .def and
+/// .shapes. A body the world refuses fails with its path and the world's reason.
+template <class World, class ReadBody>
+std::vector<BodyId> createBodies(World& world, const nlohmann::json& scene, const std::string& what, ReadBody readBody) {
+    const nlohmann::json& bodies = arrayUpTo(*member(scene, what, "bodies", true), what + ".bodies", policy::kMaxBodies);
+    std::vector<BodyId> ids;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        const std::string path = what + ".bodies[" + std::to_string(i) + "]";
+        const auto spec = readBody(bodies[i], path);
+        std::string error;
+        const BodyId id = world.createBody(spec.def, spec.shapes, &error);
+        if (id.isNull()) fail(path, error);
+        ids.push_back(id);
+    }
+    return ids;
+}
 
 }  // namespace unison::jsonio

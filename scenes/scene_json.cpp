@@ -7,10 +7,6 @@
 namespace unison::scenes {
 namespace {
 
-static_assert(int(BodyType::staticBody) == int(jsonio::BodyKind::staticBody) &&
-                  int(BodyType::kinematicBody) == int(jsonio::BodyKind::kinematicBody) &&
-                  int(BodyType::dynamicBody) == int(jsonio::BodyKind::dynamicBody),
-              "scene body kinds cast to the world's body types");
 
 using nlohmann::json;
 
@@ -78,7 +74,7 @@ Shape2 readShape(const json& js, const std::string& path) {
 BodySpec2 readBody2(const json& jb, const std::string& path) {
     BodySpec2 spec;
     BodyDef2& bd = spec.def;
-    bd.type = static_cast<BodyType>(jsonio::bodyKind(jb, path));
+    bd.type = jsonio::bodyType(jb, path);
     bd.position = vecOr(jb, path, "position", policy::kMaxCoordinate, {});
     bd.angle = jsonio::numberInOr(jb, path, "angle", -policy::kMaxAngle, policy::kMaxAngle, 0.0);
     bd.linearVelocity = vecOr(jb, path, "linear_velocity", policy::kMaxSpeed, {});
@@ -96,23 +92,10 @@ LoadedScene2 loadScene2(const json& scene, const std::string& what, const WorldD
         fail(what + ".dimension", "expected 2 here (3D scenes are read by loadScene3)");
     WorldDef2 def = base;
     def.gravity = vecOr(scene, what, "gravity", policy::kMaxGravity, def.gravity);
-    def.hz = jsonio::numberInOr(scene, what, "hz", policy::kMinHz, policy::kMaxHz, def.hz);
-    def.restitutionThreshold = jsonio::numberInOr(scene, what, "restitution_threshold", 0.0,
-                                                  policy::kMaxRestitutionThreshold, def.restitutionThreshold);
-    if (const json* sl = member(scene, what, "sleep", false)) def.enableSleep = jsonio::boolean(*sl, what + ".sleep");
-    if (const json* b = member(scene, what, "step_budget", false))  // work units per step (core/step_budget.h)
-        def.stepBudget = std::uint64_t(jsonio::integer(*b, what + ".step_budget", 0, std::numeric_limits<int>::max()));
+    jsonio::readWorldSettings(scene, what, def);
     LoadedScene2 out;
     out.world = std::make_unique<World2>(def);
-    const json& bodies = jsonio::arrayUpTo(*member(scene, what, "bodies", true), what + ".bodies", policy::kMaxBodies);
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-        const std::string path = what + ".bodies[" + std::to_string(i) + "]";
-        const BodySpec2 spec = readBody2(bodies[i], path);
-        std::string error;
-        const BodyId id = out.world->createBody(spec.def, spec.shapes, &error);
-        if (id.isNull()) fail(path, error);
-        out.bodies.push_back(id);
-    }
+    out.bodies = jsonio::createBodies(*out.world, scene, what, readBody2);
     return out;
 }
 

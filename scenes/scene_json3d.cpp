@@ -9,10 +9,6 @@
 namespace unison::scenes {
 namespace {
 
-static_assert(int(BodyType::staticBody) == int(jsonio::BodyKind::staticBody) &&
-                  int(BodyType::kinematicBody) == int(jsonio::BodyKind::kinematicBody) &&
-                  int(BodyType::dynamicBody) == int(jsonio::BodyKind::dynamicBody),
-              "scene body kinds cast to the world's body types");
 
 using nlohmann::json;
 using jsonio::fail;
@@ -113,7 +109,7 @@ Shape3 readShape3(const json& js, const std::string& path, const std::string& ba
 BodySpec3 readBody3(const json& jb, const std::string& path, const std::string& baseDir) {
     BodySpec3 spec;
     BodyDef3& bd = spec.def;
-    bd.type = static_cast<BodyType>(jsonio::bodyKind(jb, path));
+    bd.type = jsonio::bodyType(jb, path);
     bd.position = vec3Or(jb, path, "position", policy::kMaxCoordinate, Vec3::Zero());
     if (const json* q = member(jb, path, "orientation", false)) {
         const std::vector<double> n = jsonio::numbersWithin(*q, path + ".orientation", 4, policy::kMaxCoordinate);
@@ -153,12 +149,7 @@ LoadedScene3 loadScene3(const json& scene, const std::string& what, const std::s
         fail(what + ".dimension", "expected 3");
     WorldDef3 def = base;
     def.gravity = vec3Or(scene, what, "gravity", policy::kMaxGravity, def.gravity);
-    def.hz = jsonio::numberInOr(scene, what, "hz", policy::kMinHz, policy::kMaxHz, def.hz);
-    def.restitutionThreshold = jsonio::numberInOr(scene, what, "restitution_threshold", 0.0,
-                                                  policy::kMaxRestitutionThreshold, def.restitutionThreshold);
-    if (const json* sl = member(scene, what, "sleep", false)) def.enableSleep = jsonio::boolean(*sl, what + ".sleep");
-    if (const json* b = member(scene, what, "step_budget", false))  // work units per step (core/step_budget.h)
-        def.stepBudget = std::uint64_t(jsonio::integer(*b, what + ".step_budget", 0, std::numeric_limits<int>::max()));
+    jsonio::readWorldSettings(scene, what, def);
     if (const json* k = member(scene, what, "friction_directions", false)) {
         // Odd counts would be rounded up by the step (the pyramid needs +t and -t): refuse them instead.
         def.frictionDirections = jsonio::integer(*k, what + ".friction_directions", policy::kMinFrictionDirections,
@@ -167,15 +158,8 @@ LoadedScene3 loadScene3(const json& scene, const std::string& what, const std::s
     }
     LoadedScene3 out;
     out.world = std::make_unique<World3>(def);
-    const json& bodies = jsonio::arrayUpTo(*member(scene, what, "bodies", true), what + ".bodies", policy::kMaxBodies);
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
-        const std::string path = what + ".bodies[" + std::to_string(i) + "]";
-        const BodySpec3 spec = readBody3(bodies[i], path, baseDir);
-        std::string error;
-        const BodyId id = out.world->createBody(spec.def, spec.shapes, &error);
-        if (id.isNull()) fail(path, error);
-        out.bodies.push_back(id);
-    }
+    out.bodies = jsonio::createBodies(*out.world, scene, what,
+                                      [&](const json& body, const std::string& path) { return readBody3(body, path, baseDir); });
     return out;
 }
 
