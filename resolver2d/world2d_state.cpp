@@ -25,7 +25,7 @@ namespace unison {
 
 // Each struct that is part of the state has a static_assert of its size next to it: when one fails, a field was
 // added; add it to transferState() below (and to the snapshot format version if old snapshots can no longer be
-// read), and to CompactFields2 if a tick can change it, then update the size there.
+// read), and to World2::CompactFields if a tick can change it, then update the size there.
 
 namespace {
 
