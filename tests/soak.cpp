@@ -3,13 +3,18 @@
 // no fault (every number finite and in range), no body lost (the body count is what the inputs make it, and no
 // dynamic body falls through the ground), bounded memory (resident size after the warm-up may not grow by more than
 // 64 MB), and the same chain hash twice: the second run is restored from the first run's snapshot at half time.
+// Both worlds step with a per-step budget (part of their state, so the snapshot carries it) small enough that
+// islands get the bounded approximation; the first run steps on --threads worker threads, the second on one, so the
+// equal chain hashes also show that the thread count changes nothing.
 //
-// Usage: unison_soak [--steps N] [--quick]   (--quick: 1,000 steps, the ctest entry soak_quick)
+// Usage: unison_soak [--steps N] [--quick] [--budget-ms X] [--threads T]
+//   --quick: 1,000 steps (the ctest entry soak_quick); --budget-ms: default 0.05 (0 = unlimited); --threads: 2
 // Prints one JSON line; exits 0 when every check held, 1 otherwise (with the reason on stderr).
 #include "scene_dir.h"
 #include "scene_json.h"
 #include "scene_json3d.h"
 #include "state_io.h"
+#include "step_budget.h"
 
 #include <chrono>
 #include <cstdio>
@@ -52,11 +57,20 @@ struct Pair {
     int bodies2 = 0, bodies3 = 0;  // expected body counts
 };
 
-Pair load() {
+struct Settings {
+    std::uint64_t budget = 0;  // work units per step
+    int threads = 1;           // of the first run
+};
+
+Pair load(const Settings& settings, int threads) {
     const std::string dir = scenes::sceneDir();
     Pair p;
     p.w2 = scenes::loadScene2(scenes::readSceneFile(dir + "/mixed_pile.json"), "mixed_pile").world;
     p.w3 = scenes::loadScene3(scenes::readSceneFile(dir + "/mixed3d.json"), "mixed3d", dir).world;
+    p.w2->setStepBudget(settings.budget);
+    p.w3->setStepBudget(settings.budget);
+    if (!p.w2->setTaskSystem(TaskSystem{threads}) || !p.w3->setTaskSystem(TaskSystem{threads}))
+        throw Failure{"--threads must be >= 1"};
     p.bodies2 = p.w2->bodyCount();
     p.bodies3 = p.w3->bodyCount();
     return p;
@@ -112,15 +126,19 @@ void check(const World& w, int expected, int s, double floorY, const char* name)
 
 struct RunResult {
     std::uint64_t chain2 = 0, chain3 = 0;
+    long approximateIslands = 0;  // summed over the steps of both worlds
     long rssGrowthKb = 0;
     double seconds = 0.0;
 };
 
 /// One run of `steps`. At step `restoreAt` the first run (restore false) stores its snapshots in *snap2 and *snap3;
 /// the second (restore true) replaces its worlds by fresh ones restored from them.
-RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>* snap2, std::vector<std::uint8_t>* snap3) {
+RunResult run(const Settings& settings, int steps, int restoreAt, bool restore, std::vector<std::uint8_t>* snap2,
+               std::vector<std::uint8_t>* snap3) {
     const auto t0 = std::chrono::steady_clock::now();
-    Pair p = load();
+    const int threads = restore ? 1 : settings.threads;
+    Pair p = load(settings, threads);
+    RunResult r;
     Lcg rng;
     ByteWriter chain2, chain3;
     long rssAfterWarmup = 0, rssMax = 0;
@@ -129,6 +147,8 @@ RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>*
             if (restore) {
                 auto w2 = std::make_unique<World2>();
                 auto w3 = std::make_unique<World3>();
+                w2->setTaskSystem(TaskSystem{threads});
+                w3->setTaskSystem(TaskSystem{threads});
                 std::string error;
                 if (!w2->restore(snap2->data(), snap2->size(), &error) || !w3->restore(snap3->data(), snap3->size(), &error))
                     throw Failure{"restore at half time refused: " + error};
@@ -144,6 +164,7 @@ RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>*
         p.w3->step();
         check(*p.w2, p.bodies2, s, -1.0, "2D");
         check(*p.w3, p.bodies3, s, -1.0, "3D");
+        r.approximateIslands += p.w2->stats().approximateIslands + p.w3->stats().approximateIslands;
         if (s % 100 == 0) {
             chain2.u64(p.w2->stateHash());
             chain3.u64(p.w3->stateHash());
@@ -151,7 +172,6 @@ RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>*
         if (s == std::min(steps, 2000)) rssAfterWarmup = residentKb();
         if (s % 1000 == 0) rssMax = std::max(rssMax, residentKb());
     }
-    RunResult r;
     r.chain2 = hash64(chain2.data().data(), chain2.data().size());
     r.chain3 = hash64(chain3.data().data(), chain3.data().size());
     r.rssGrowthKb = std::max(0L, rssMax - rssAfterWarmup);
@@ -163,22 +183,32 @@ RunResult run(int steps, int restoreAt, bool restore, std::vector<std::uint8_t>*
 
 int main(int argc, char** argv) {
     int steps = 100000;
+    double budgetMs = 0.05;
+    Settings settings;
+    settings.threads = 2;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--quick") == 0) steps = 1000;
         if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) steps = std::atoi(argv[++i]);
+        if (std::strcmp(argv[i], "--budget-ms") == 0 && i + 1 < argc) budgetMs = std::atof(argv[++i]);
+        if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) settings.threads = std::atoi(argv[++i]);
     }
+    settings.budget = work::fromMilliseconds(budgetMs);
     if (steps < 2) steps = 2;
     try {
         std::vector<std::uint8_t> snap2, snap3;
-        const RunResult first = run(steps, steps / 2, false, &snap2, &snap3);
-        const RunResult second = run(steps, steps / 2, true, &snap2, &snap3);
+        const RunResult first = run(settings, steps, steps / 2, false, &snap2, &snap3);
+        const RunResult second = run(settings, steps, steps / 2, true, &snap2, &snap3);
         const bool same = first.chain2 == second.chain2 && first.chain3 == second.chain3;
         const long growth = std::max(first.rssGrowthKb, second.rssGrowthKb);
         std::printf("{\"steps\": %d, \"chain2d\": \"%016llx\", \"chain3d\": \"%016llx\", \"same_hash_twice\": %s, "
-                    "\"rss_growth_kb\": %ld, \"seconds\": [%.1f, %.1f]}\n",
+                    "\"rss_growth_kb\": %ld, \"seconds\": [%.1f, %.1f], \"budget_units\": %llu, \"threads\": [%d, 1], "
+                    "\"approximate_islands\": %ld}\n",
                     steps, (unsigned long long)first.chain2, (unsigned long long)first.chain3, same ? "true" : "false", growth,
-                    first.seconds, second.seconds);
+                    first.seconds, second.seconds, (unsigned long long)settings.budget, settings.threads,
+                    first.approximateIslands);
         if (!same) throw Failure{"the two runs disagree"};
+        if (settings.budget > 0 && first.approximateIslands == 0)
+            throw Failure{"the budget never left an island to the approximation: take a smaller --budget-ms"};
         if (growth > 64 * 1024) throw Failure{"resident memory grew by " + std::to_string(growth / 1024) + " MB"};
     } catch (const Failure& f) {
         std::fprintf(stderr, "soak failed: %s\n", f.why.c_str());
