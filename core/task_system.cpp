@@ -1,7 +1,27 @@
 // core/task_system.cpp — the built-in thread pool (see task_system.h).
 #include "task_system.h"
 
+#include <chrono>
+
 namespace unison {
+
+namespace {
+
+/// How long a thread watches for work (or for a task's end) before it sleeps. Not part of any result.
+constexpr std::chrono::microseconds kSpinTime{300};
+
+/// Calls done() until it is true or kSpinTime has passed, yielding in between; true when done() was.
+template <class Done>
+bool spinUntil(Done done) {
+    const auto deadline = std::chrono::steady_clock::now() + kSpinTime;
+    for (int i = 1;; ++i) {
+        if (done()) return true;
+        if (i % 32 == 0 && std::chrono::steady_clock::now() >= deadline) return false;
+        std::this_thread::yield();
+    }
+}
+
+}  // namespace
 
 ThreadPool::ThreadPool(int workerCount) : mWorkerCount(workerCount < 1 ? 1 : workerCount) {
     for (int w = 1; w < mWorkerCount; ++w) mThreads.emplace_back([this, w] { workerLoop(w); });
@@ -49,6 +69,11 @@ void ThreadPool::finish(void* handle, void* poolPtr) {
     ThreadPool& pool = *static_cast<ThreadPool*>(poolPtr);
     Task& task = *static_cast<Task*>(handle);
     while (runOne(task, 0)) task.done.fetch_add(1, std::memory_order_acq_rel);
+    // The other threads' last ranges usually end within microseconds; a wake-up from the condition variable costs
+    // tens of them, on the path of every parallel section: watch for the end first.
+    spinUntil([&] {
+        return task.done.load(std::memory_order_acquire) == task.rangeCount && task.users.load(std::memory_order_acquire) == 0;
+    });
     {
         std::unique_lock<std::mutex> lock(pool.mMutex);
         // Every range done, and no pool thread still holds the task (it may not have seen yet that none is left).
@@ -65,10 +90,9 @@ void ThreadPool::finish(void* handle, void* poolPtr) {
 void ThreadPool::workerLoop(int worker) {
     std::uint64_t seen = 0;
     for (;;) {
-        // A step enqueues its tasks a fraction of a millisecond apart, and a sleeping thread can take longer than that
-        // to wake: watch for the next task for a while (about 50 us) before sleeping.
-        for (int spin = 0; spin < 2000 && mEnqueued.load(std::memory_order_acquire) == seen; ++spin)
-            std::this_thread::yield();
+        // A step enqueues its tasks a fraction of a millisecond apart (the serial parts of a step between them), and
+        // a sleeping thread can take longer than that to wake: watch for the next task for a while before sleeping.
+        spinUntil([&] { return mEnqueued.load(std::memory_order_acquire) != seen; });
         Task* task = nullptr;
         {
             std::unique_lock<std::mutex> lock(mMutex);

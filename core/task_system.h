@@ -67,7 +67,7 @@ private:
         int itemCount = 0, rangeSize = 1, rangeCount = 0;
         std::atomic<int> next{0};  // next range to hand out
         std::atomic<int> done{0};  // ranges finished
-        int users = 0;             // pool threads working on it (under the pool's mutex)
+        std::atomic<int> users{0};  // pool threads working on it (changed under the pool's mutex, read by finish())
     };
     /// Runs one range of `task` on `worker`; false when it had none left.
     static bool runOne(Task& task, int worker);

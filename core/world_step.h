@@ -27,6 +27,7 @@
 #include "pgs.h"
 #include "step_budget.h"
 #include "step_support.h"
+#include "sweep_order.h"
 #include "task_system.h"
 
 #include <algorithm>
@@ -121,7 +122,8 @@ struct StepControl {
 ///   worldInvInertia(state, info)   world-frame inverse inertia of a dynamic body
 ///   integrate(dense, v, w, dt)     moves a body by velocities v, w over dt (centre, rotation, origin)
 /// and the shapes (cold record `shapes`, each with friction and restitution) must have computeAabb(shape, xf)
-/// (an Aabb with lower/upper) and findPairs(boxes, inactive) (the broadphase) found by argument lookup.
+/// (an Aabb with lower/upper) and findPairs(boxes, inactive, cache) (the broadphase, with a SweepCache) found by
+/// argument lookup.
 template <class D>
 class WorldStep {
 public:
@@ -246,6 +248,7 @@ private:
     StepControl mControl;                 // this call's budget and threads
     std::unique_ptr<ThreadPool> mPool;    // the built-in pool (workerCount > 1 and no job system of the world's)
     std::vector<Worker> mWorkers;         // one per worker index
+    SweepCache mSweep;                    // the broadphase's last sort order (speed only: not state)
     std::vector<StepContact<D>> mContacts;
     std::vector<int> mHit;                // per contact: its warm-start cache entry, or -1
     std::vector<ContactKey> mNewEntry;    // per contact: its entry for the next step's cache (if mHasEntry)
@@ -386,7 +389,7 @@ void WorldStep<D>::findContacts(H& hooks) {
             inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
     });
-    const auto pairs = findPairs(boxes, inactive);
+    const auto pairs = findPairs(boxes, inactive, &mSweep);
     // The narrowphase in parallel: each pair writes its points into its own slots; they are gathered in pair order.
     using Manifold = decltype(hooks.narrowphase(cold[0].shapes[0], xfs[0], cold[0].shapes[0], xfs[0], 0.0, mStats));
     constexpr int kSlots = int(std::tuple_size<std::decay_t<decltype(std::declval<Manifold>().points)>>::value);

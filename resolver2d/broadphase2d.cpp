@@ -12,29 +12,22 @@
 namespace unison {
 namespace {
 
-struct SweepEntry {
-    double lowerX;
-    int index;
-};
-
 bool validBox(const Aabb2& b) { return b.lower.x <= b.upper.x && b.lower.y <= b.upper.y; }
 
 }  // namespace
 
-std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, const std::vector<std::uint8_t>& isStatic) {
+std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, const std::vector<std::uint8_t>& isStatic,
+                                           SweepCache* cache) {
     if (!isStatic.empty() && isStatic.size() != boxes.size())
         throw std::invalid_argument("findPairs: isStatic must be empty or have one flag per box");
     const int n = static_cast<int>(boxes.size());
     auto staticBox = [&](int i) { return !isStatic.empty() && isStatic[i] != 0; };
 
-    std::vector<SweepEntry> order;
-    order.reserve(boxes.size());
-    for (int i = 0; i < n; ++i)
-        if (validBox(boxes[i])) order.push_back({boxes[i].lower.x, i});
     // Valid boxes have non-NaN lower.x, so (lower.x, index) is a strict total order.
-    std::sort(order.begin(), order.end(), [](const SweepEntry& l, const SweepEntry& r) {
-        return l.lowerX < r.lowerX || (l.lowerX == r.lowerX && l.index < r.index);
-    });
+    std::vector<SweepEntry> order;
+    sweepSort(
+        n, [&](int i) { return validBox(boxes[std::size_t(i)]); }, [&](int i) { return boxes[std::size_t(i)].lower.x; },
+        order, cache);
 
     std::vector<std::pair<int, int>> pairs;
     const int m = static_cast<int>(order.size());

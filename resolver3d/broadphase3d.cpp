@@ -8,24 +8,24 @@
 
 namespace unison {
 
-std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive) {
+std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
+                                            SweepCache* cache) {
     if (!inactive.empty() && inactive.size() != boxes.size())
         throw std::invalid_argument("findPairs3: inactive must be empty or have one flag per box");
     const int n = int(boxes.size());
-    std::vector<std::pair<double, int>> order;  // (lower.x, index): a strict total order for valid boxes
-    for (int i = 0; i < n; ++i) {
+    std::vector<SweepEntry> order;  // (lower.x, index): a strict total order for valid boxes
+    auto valid = [&](int i) {
         const Aabb3& b = boxes[std::size_t(i)];
-        if (b.lower.x() <= b.upper.x() && b.lower.y() <= b.upper.y() && b.lower.z() <= b.upper.z())
-            order.emplace_back(b.lower.x(), i);
-    }
-    std::sort(order.begin(), order.end());
+        return b.lower.x() <= b.upper.x() && b.lower.y() <= b.upper.y() && b.lower.z() <= b.upper.z();
+    };
+    sweepSort(n, valid, [&](int i) { return boxes[std::size_t(i)].lower.x(); }, order, cache);
     auto isInactive = [&](int i) { return !inactive.empty() && inactive[std::size_t(i)] != 0; };
     std::vector<std::pair<int, int>> pairs;
     for (std::size_t i = 0; i < order.size(); ++i) {
-        const int a = order[i].second;
+        const int a = order[i].index;
         const Aabb3& ba = boxes[std::size_t(a)];
-        for (std::size_t j = i + 1; j < order.size() && order[j].first <= ba.upper.x(); ++j) {
-            const int b = order[j].second;
+        for (std::size_t j = i + 1; j < order.size() && order[j].lowerX <= ba.upper.x(); ++j) {
+            const int b = order[j].index;
             if (isInactive(a) && isInactive(b)) continue;
             const Aabb3& bb = boxes[std::size_t(b)];
             if (ba.lower.y() <= bb.upper.y() && bb.lower.y() <= ba.upper.y() && ba.lower.z() <= bb.upper.z() &&

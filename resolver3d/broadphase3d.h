@@ -7,6 +7,7 @@
 #pragma once
 
 #include "shapes3d.h"
+#include "sweep_order.h"
 
 #include <cstdint>
 #include <utility>
@@ -16,10 +17,12 @@ namespace unison {
 
 /// All pairs (a, b), a < b, of overlapping boxes except inactive–inactive ones, ascending by (a, b). inactive must
 /// be empty (all active) or as long as boxes (std::invalid_argument otherwise).
-std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive);
+std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
+                                            SweepCache* cache = nullptr);
 /// The same under the 2D name, for the dimension-generic step (core/world_step.h).
-inline std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive) {
-    return findPairs3(boxes, inactive);
+inline std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
+                                                  SweepCache* cache = nullptr) {
+    return findPairs3(boxes, inactive, cache);
 }
 
 }  // namespace unison

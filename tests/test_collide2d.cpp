@@ -353,4 +353,38 @@ TEST_CASE("broadphase: 2000 random boxes, sort-and-sweep equals brute force") {
     CHECK(pairs == brute);
 }
 
+TEST_CASE("broadphase: a sweep cache kept between calls changes the cost, never the pairs") {
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    auto next = [&]() {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+    };
+    const int n = 600;
+    std::vector<Aabb2> boxes(n);
+    std::vector<std::uint8_t> isStatic(n, 0);
+    for (int i = 0; i < n; ++i) {
+        const Vec2 lo{50.0 * next(), 50.0 * next()};
+        boxes[std::size_t(i)] = {lo, lo + Vec2{0.5 + next(), 0.5 + next()}};
+    }
+    SweepCache cache;
+    for (int call = 0; call < 40; ++call) {
+        CHECK(findPairs(boxes, isStatic, &cache) == findPairs(boxes, isStatic));
+        CHECK(cache.order.size() == std::size_t(n));
+        // Most boxes move a little (the cache's order stays nearly sorted); every 10th call they are shuffled (the
+        // insertion sort runs out of moves and std::sort finishes); some become invalid, some ties appear.
+        for (int i = 0; i < n; ++i) {
+            Aabb2& b = boxes[std::size_t(i)];
+            const double dx = call % 10 == 9 ? 40.0 * (next() - 0.5) : 0.05 * (next() - 0.5);
+            b.lower.x += dx;
+            b.upper.x += dx;
+            if (i % 50 == call % 50) b.lower.x = b.upper.x + 1.0;  // invalid this call
+            else if (b.lower.x > b.upper.x) b.lower.x = b.upper.x - 0.7;
+            if (i % 97 == 5 && i > 0) b.lower.x = boxes[std::size_t(i - 1)].lower.x;  // an exact tie
+        }
+    }
+    std::vector<Aabb2> fewer(boxes.begin(), boxes.begin() + n / 2);  // another count: the cache starts over
+    CHECK(findPairs(fewer, {}, &cache) == findPairs(fewer, {}));
+    CHECK(cache.order.size() == std::size_t(n / 2));
+}
+
 }  // TEST_SUITE
