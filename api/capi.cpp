@@ -111,6 +111,7 @@ bool fromC(unisonBodyType in, BodyType* out) {
         case UNISON_BODY_STATIC: *out = BodyType::staticBody; return true;
         case UNISON_BODY_KINEMATIC: *out = BodyType::kinematicBody; return true;
         case UNISON_BODY_DYNAMIC: *out = BodyType::dynamicBody; return true;
+        case UNISON_BODY_MAX_ENUM: break;
     }
     return false;
 }
@@ -208,6 +209,7 @@ const char* unisonErrorName(unisonError error) {
         case UNISON_ERROR_FLOATING_POINT: return "floating_point";
         case UNISON_ERROR_INTERNAL: return "internal";
         case UNISON_ERROR_WORLD_FAULT: return "world_fault";
+        case UNISON_ERROR_MAX_ENUM: break;
     }
     return "unknown";
 }

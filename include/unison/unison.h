@@ -50,7 +50,8 @@ typedef enum unisonError {
     UNISON_ERROR_CAPACITY = 8,          /**< too many worlds or bodies */
     UNISON_ERROR_FLOATING_POINT = 9,    /**< flush-to-zero, another rounding mode or excess precision is active */
     UNISON_ERROR_INTERNAL = 10,         /**< an unexpected failure inside the library (out of memory) */
-    UNISON_ERROR_WORLD_FAULT = 11       /**< the world's state stopped being finite: it does not step until restored */
+    UNISON_ERROR_WORLD_FAULT = 11,      /**< the world's state stopped being finite: it does not step until restored */
+    UNISON_ERROR_MAX_ENUM = 0x7fffffff  /**< never returned: makes every int a value of the type (C callers may pass any) */
 } unisonError;
 
 /** Stable lower-case name of an error code ("ok", "invalid_argument", ...). */
@@ -94,7 +95,8 @@ typedef struct unisonBodyId {
 typedef enum unisonBodyType {
     UNISON_BODY_STATIC = 0,
     UNISON_BODY_KINEMATIC = 1,
-    UNISON_BODY_DYNAMIC = 2
+    UNISON_BODY_DYNAMIC = 2,
+    UNISON_BODY_MAX_ENUM = 0x7fffffff /**< not a body type: makes every int a value of the type (refused) */
 } unisonBodyType;
 
 /** Two bodies that started (begin) or stopped (end) touching with overlap during the last step. */
@@ -172,7 +174,8 @@ typedef enum unisonShapeType2 {
     UNISON_SHAPE2_CIRCLE = 0,
     UNISON_SHAPE2_BOX = 1,
     UNISON_SHAPE2_POLYGON = 2,
-    UNISON_SHAPE2_SEGMENT = 3
+    UNISON_SHAPE2_SEGMENT = 3,
+    UNISON_SHAPE2_MAX_ENUM = 0x7fffffff /**< not a shape type: makes every int a value of the type (refused) */
 } unisonShapeType2;
 
 /** A 2D shape in body coordinates with its material (start from a unisonMake...2() helper). */
@@ -248,7 +251,8 @@ typedef enum unisonShapeType3 {
     UNISON_SHAPE3_BOX = 1,
     UNISON_SHAPE3_HULL = 2,
     UNISON_SHAPE3_PLANE = 3,
-    UNISON_SHAPE3_MESH = 4
+    UNISON_SHAPE3_MESH = 4,
+    UNISON_SHAPE3_MAX_ENUM = 0x7fffffff /**< not a shape type: makes every int a value of the type (refused) */
 } unisonShapeType3;
 
 /** A 3D shape in body coordinates with its material (start from a unisonMake...3() helper). */
