@@ -193,6 +193,10 @@ private:
     struct Run;  // one Lemke path by its phases (lcp.cpp)
     /// One Lemke run; `restartsLeft` bounds the restarts after a cycling pivot path.
     LcpResult run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft = 2);
+    /// A Lemke run, continued by the robust path (lcp_robust.cpp) when it does not end `solved`.
+    LcpResult runRobust(Workspace& ws, const double* b, const LcpOptions& options);
+    /// The robust path: proximal-point regularisation of the loaded problem after `failed`, its first run.
+    LcpResult proximal(Workspace& ws, const double* b, const LcpOptions& options, LcpResult failed);
     Workspace& workspace();
     std::unique_ptr<Workspace> mWorkspace;  // buffers reused between solves; no state carries over
 };
