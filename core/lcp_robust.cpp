@@ -33,11 +33,11 @@ namespace {
 
 /// eps of the first regularised sub-solve relative to max |A_ii|, the factor it shrinks by per iteration, and its
 /// floor.
-constexpr double kRegularisation = 1e-6;
+constexpr double kRegularisation = 1e-3;
 constexpr double kShrink = 0.1;
 constexpr double kRegularisationMin = 1e-8;
 /// Proximal iterations (each one Lemke sub-solve) at most.
-constexpr int kMaxIterations = 16;
+constexpr int kMaxIterations = 32;
 /// Iterations without a better true residual after which the iteration stops (the data's noise floor).
 constexpr int kMaxStalled = 3;
 /// Largest scaled residual of an answer returned as `numerical_failure` (else the first run's result stands).
@@ -151,7 +151,34 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
         ws.aMaxA = aMaxShifted;
         ws.columnsReady = false;
     };
+    double aMaxHeld = aMaxTrue;  // max |A_ij| of the true A while the workspace holds the shifted one
 
+    // The ordinary warm-start check of a basis on the true problem (z recomputed from the basis with the true b):
+    // true, with the answer in `check`, when it passes. The true rows visit the workspace for it.
+    std::vector<int> checkedBasis;
+    LcpResult check;
+    auto checkOnTruth = [&](const std::vector<int>& guess) {
+        if (guess.empty() || guess == checkedBasis || (options.maxWork && total.work >= options.maxWork)) return false;
+        checkedBasis = guess;
+        ws.rowStart.swap(truth.start);
+        ws.rowCol.swap(truth.col);
+        ws.rowVal.swap(truth.val);
+        std::swap(ws.aMaxA, aMaxHeld);
+        ws.columnsReady = false;
+        check = LcpResult();
+        check.z.assign(nn, 0.0);
+        check.w.assign(bTrue.begin(), bTrue.end());
+        ws.loadB(bTrue.data());
+        ws.refusal.valid = false;
+        const bool passed = lcp_detail::trySparseWarmStart(ws, guess, options, scale, check);
+        ws.rowStart.swap(truth.start);
+        ws.rowCol.swap(truth.col);
+        ws.rowVal.swap(truth.val);
+        std::swap(ws.aMaxA, aMaxHeld);
+        ws.columnsReady = false;
+        total.work += passed ? check.work : ws.blockFactor.work() + std::uint64_t(n);
+        return passed && (!options.maxWork || total.work <= options.maxWork);
+    };
     std::vector<double> z(nn, 0.0), bk(nn), w;
     std::vector<int> basis;
     LcpResult best;
@@ -160,6 +187,7 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
     int stalled = 0;
     double goodEps = 0.0;    // the eps of the last usable sub-solve (0: none yet)
     double loadedEps = 0.0;  // the eps of the matrix in the workspace (0: the true A)
+    bool answered = false;   // a basis passed the check on the true problem (`check` holds the answer)
     for (int k = 0; k < kMaxIterations && budgetLeft() && stalled < kMaxStalled; ++k) {
         if (eps != loadedEps) {
             loadShifted(eps);
@@ -205,6 +233,11 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
         } else {
             ++stalled;
         }
+        // Once the sub-solves' basis is a nonsingular block of the true A, it may be the true answer's basis.
+        if (checkOnTruth(basis)) {
+            answered = true;
+            break;
+        }
         if (res <= options.residualTolerance || !moved) break;
         eps = std::max(epsFloor, eps * kShrink);
     }
@@ -226,22 +259,12 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
     out.pivots = total.pivots;
     out.work = total.work;
     out.restarts = total.restarts;
-    // The finish: the best basis checked on the true problem, z recomputed from it with the true b.
-    if (!best.basis.empty() && (!options.maxWork || out.work < options.maxWork)) {
-        LcpResult check;
-        check.z.assign(nn, 0.0);
-        check.w.assign(bTrue.begin(), bTrue.end());
-        ws.loadB(bTrue.data());
-        ws.refusal.valid = false;
-        if (lcp_detail::trySparseWarmStart(ws, best.basis, options, scale, check) &&
-            (!options.maxWork || out.work + check.work <= options.maxWork)) {
-            check.pivots = out.pivots;
-            check.work += out.work;
-            check.restarts = out.restarts;
-            check.warmStarted = false;
-            return check;
-        }
-        out.work += ws.blockFactor.work() + std::uint64_t(n);  // the refused check (its last factorisation)
+    if (answered) {
+        check.pivots = out.pivots;
+        check.work = out.work;
+        check.restarts = out.restarts;
+        check.warmStarted = false;
+        return check;
     }
     if (best.scaledResidual <= options.residualTolerance) {
         out.status = LcpStatus::solved;
