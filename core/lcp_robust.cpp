@@ -4,13 +4,15 @@
 // singular A, and in floating point Lemke's path on them cycles, meets a block it cannot factorise or ends on a ray
 // that exists only by rounding. Such an LCP (A copositive: z^T A z >= 0 for z >= 0) is solved here by the proximal
 // point method: z_{k+1} solves the regularised LCP
-//     (A + eps I) z + (b - eps z_k) >= 0,   z >= 0,   complementary,          z_0 = 0,
+//     (A + eps_k I) z + (b - eps_k z_k) >= 0,   z >= 0,   complementary,          z_0 = 0,
 // whose matrix is strictly copositive (Lemke's path ends on a solution, never on a ray) and whose blocks are
-// nonsingular. Its w differs from the true problem's by eps (z_{k+1} - z_k), so the iterates' true residual falls as
-// they settle; for a PSD A with b in its range they converge to a solution of the true LCP. Every sub-solve is a
-// Lemke run of this solver, warm-started from the previous one's basis (usually accepted by one factorisation).
-// The finish: the best iterate's basis checked on the true problem (the ordinary warm-start check: z recomputed from
-// the basis with the true b), else the best iterate itself, judged by its residual on the true (A, b).
+// nonsingular. Its w differs from the true problem's by eps_k (z_{k+1} - z_k), so the iterates' true residual falls
+// as they settle and eps_k shrinks; for a PSD A with b in its range they converge to a solution of the true LCP.
+// eps_0 is large (well-conditioned first, cold sub-solve) and shrinks 10x per iteration to a floor. Every sub-solve
+// is a Lemke run of this solver, warm-started from the previous one's basis (once the basis settles, one
+// factorisation and no pivot). Each new basis is also checked on the true problem (the ordinary warm-start check: z
+// recomputed from the basis with the true b), which gives the exact answer once the basis is a nonsingular block
+// of the true A; else the best iterate stands, judged by its residual on the true (A, b).
 //
 // Honesty: `solved` only within options.residualTolerance on the true problem; an answer between that and
 // kAcceptResidual is `numerical_failure` carrying its z; anything worse returns the first run's own result (so a
@@ -23,9 +25,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
-#include <cstdio>
 
 namespace unison {
 

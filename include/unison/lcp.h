@@ -9,7 +9,9 @@
 //   - every solve ends with an explicit status, and `solved` is only reported after the complementarity
 //     residual of the returned (z, w) has been checked;
 //   - work is counted in deterministic units, never wall-clock time, so a frame budget gives the same answer on
-//     every machine.
+//     every machine;
+//   - a run that fails (not by the caller's caps) continues on a regularised robust path; solves that succeed
+//     never reach it.
 #pragma once
 
 #include <cstdint>
@@ -84,7 +86,7 @@ enum class LcpStatus {
     infeasible,        ///< secondary ray: no solution exists, or Lemke cannot reach one from this start
     pivot_limit,       ///< the pivot cap or the work budget ran out first
     invalid_input,     ///< NaN/Inf entries, negative size or mismatched sizes
-    numerical_failure  ///< z0 left the basis but the answer failed the residual check even after refinement
+    numerical_failure  ///< an answer that failed the residual check even after refinement (z and its residual kept)
 };
 
 /// Stable lower-case name of a status ("solved", "infeasible", ...), as printed by the command-line tool.
