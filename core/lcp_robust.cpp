@@ -134,9 +134,16 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
     const double scale = std::max({aMaxTrue, bMax, kTiny});
     // One evaluation of the true residual: a pass over A and b.
     const std::uint64_t checkWork = std::uint64_t(truth.col.size()) + std::uint64_t(n);
+    // The most a warm-start check can count (its block's nonzeros, at most A's plus the diagonal, or a dense 48 x 48
+    // LU, plus n). A run counts an accepted check without testing it against maxWork, and a sub-solve may run up to
+    // four (its own and its continuations'), so that much is held back from every sub-solve's budget.
+    const std::uint64_t checkBound =
+        std::max<std::uint64_t>(std::uint64_t(lcp_detail::BlockFactor::kDenseMax) * lcp_detail::BlockFactor::kDenseMax,
+                                checkWork) + std::uint64_t(n);
+    const std::uint64_t reserve = 4 * checkBound + checkWork;
     LcpResult total = failed;  // counts every pivot and unit of work from here on
     auto budgetLeft = [&]() {
-        return total.pivots < maxPivots && (!options.maxWork || total.work + checkWork < options.maxWork);
+        return total.pivots < maxPivots && (!options.maxWork || total.work + reserve + checkWork < options.maxWork);
     };
     if (!(diagMax > 0.0) || !budgetLeft()) return failed;
 
@@ -160,7 +167,8 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
     std::vector<int> checkedBasis;
     LcpResult check;
     auto checkOnTruth = [&](const std::vector<int>& guess) {
-        if (guess.empty() || guess == checkedBasis || (options.maxWork && total.work >= options.maxWork)) return false;
+        if (guess.empty() || guess == checkedBasis || (options.maxWork && total.work + checkBound > options.maxWork))
+            return false;
         checkedBasis = guess;
         ws.rowStart.swap(truth.start);
         ws.rowCol.swap(truth.col);
@@ -199,7 +207,7 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
         for (std::size_t i = 0; i < nn; ++i) bk[i] = bTrue[i] - eps * z[i];
         LcpOptions sub = options;
         sub.maxPivots = maxPivots - total.pivots;
-        if (options.maxWork) sub.maxWork = options.maxWork - total.work - checkWork;
+        if (options.maxWork) sub.maxWork = options.maxWork - total.work - reserve;
         sub.warmBasis = basis.empty() ? nullptr : &basis;
         LcpResult r = run(ws, bk.data(), sub);
         total.pivots += r.pivots;
@@ -250,10 +258,17 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
     ws.rowVal.swap(truth.val);
     ws.aMaxA = aMaxTrue;
     ws.columnsReady = false;
-    if (!haveBest) {
+    // A factorisation is not split: one that overran the caller's budget ends the solve with pivot_limit, whatever
+    // it found (LcpOptions::maxWork).
+    const bool overrun = (options.maxWork && total.work > options.maxWork) || total.pivots > maxPivots;
+    if (!haveBest || overrun) {
         failed.pivots = total.pivots;
         failed.work = total.work;
         failed.restarts = total.restarts;
+        if (overrun) {
+            failed.status = LcpStatus::pivot_limit;
+            failed.message = lcp_detail::kWorkBudgetMessage;
+        }
         return failed;
     }
 

@@ -89,6 +89,14 @@ void checkTarget(int rows, bool friction, ManifoldData data) {
     CHECK(std::fabs(r.scaledResidual - recomputed) <= 1e-3 * recomputed + 1e-15);
 }
 
+// A solve cut short by a budget: pivot_limit, or the best answer so far with an honest status.
+void checkBudgeted(const ManifoldLcp& m, const LcpResult& r) {
+    const double recomputed = bench::scaledResidual(m.lcp, r.z);
+    if (r.status == LcpStatus::solved) CHECK(recomputed <= 1.01e-9);
+    else if (r.status == LcpStatus::numerical_failure) CHECK(recomputed <= 1e-6);
+    else CHECK(r.status == LcpStatus::pivot_limit);
+}
+
 }  // namespace
 
 TEST_SUITE("box2d_manifold_lcps") {
@@ -169,6 +177,29 @@ TEST_SUITE("box2d_manifold_lcps") {
                 CHECK(r->work == a.work);
                 REQUIRE(r->z.size() == a.z.size());
                 CHECK(std::memcmp(r->z.data(), a.z.data(), a.z.size() * sizeof(double)) == 0);
+            }
+        }
+    }
+
+    TEST_CASE("the robust path keeps within the caller's work budget and pivot cap") {
+        for (bool friction : {false, true}) {
+            CAPTURE(friction);
+            const ManifoldLcp& m = member(12, friction, ManifoldData::doubleData);
+            LemkeSolver solver;
+            const LcpResult full = solver.solve(m.lcp);
+            REQUIRE(full.status == LcpStatus::solved);
+            for (double f : {0.3, 0.6, 0.8, 0.9, 0.95, 0.99, 0.999}) {
+                CAPTURE(f);
+                LcpOptions budget;
+                budget.maxWork = std::uint64_t(f * double(full.work));
+                const LcpResult r = solver.solve(m.lcp, budget);
+                CHECK(r.work <= budget.maxWork);
+                checkBudgeted(m, r);
+                LcpOptions cap;
+                cap.maxPivots = int(f * double(full.pivots));
+                const LcpResult p = solver.solve(m.lcp, cap);
+                CHECK(p.pivots <= cap.maxPivots);
+                checkBudgeted(m, p);
             }
         }
     }
