@@ -180,7 +180,9 @@ LcpResult LemkeSolver::proximal(Workspace& ws, const double* b, const LcpOptions
         check.w.assign(bTrue.begin(), bTrue.end());
         ws.loadB(bTrue.data());
         ws.refusal.valid = false;
-        const bool passed = lcp_detail::trySparseWarmStart(ws, guess, options, scale, check);
+        LcpOptions one = options;  // one factorisation: block principal rounds never rescued a basis here
+        one.blockPivotRounds = 0;
+        const bool passed = lcp_detail::trySparseWarmStart(ws, guess, one, scale, check);
         ws.rowStart.swap(truth.start);
         ws.rowCol.swap(truth.col);
         ws.rowVal.swap(truth.val);
