@@ -92,7 +92,7 @@ LcpResult LemkeSolver::solve(int n, const double* A, const double* b, const LcpO
         result.message = "A has a non-finite entry at (" + std::to_string(bad / n) + ", " + std::to_string(bad % n) + ")";
         return result;
     }
-    return run(ws, b, options);
+    return runRobust(ws, b, options);
 }
 
 LcpResult LemkeSolver::solve(const SparseLcp& problem, const LcpOptions& options) {
@@ -111,7 +111,7 @@ LcpResult LemkeSolver::solve(SparseLcp&& problem, const LcpOptions& options) {
     result.message = ws.takeSparse(problem);
     if (!result.message.empty()) return result;
     ws.bStore.swap(problem.b);
-    return run(ws, ws.bStore.data(), options);
+    return runRobust(ws, ws.bStore.data(), options);
 }
 
 LcpResult LemkeSolver::checkGuess(SparseLcp&& guessBlock, const LcpOptions& options, const Product& product) {
@@ -419,11 +419,11 @@ LcpResult LemkeSolver::Run::pivot() {
     sinceRefactor = 0;
     for (;;) {
         const std::uint64_t cost = ws.pivotCost();
-        if (result.pivots >= maxPivots) return finishWith(LcpStatus::pivot_limit, "pivot cap reached");
+        if (result.pivots >= maxPivots) return finishWith(LcpStatus::pivot_limit, lcp_detail::kPivotCapMessage);
         // A warm path that wanders (the special covering vector can lead far from the guess) is cut off at warmCap;
         // the rest of the budget goes to a cold start.
         if (warm && result.pivots >= warmCap) return restart(true);
-        if (options.maxWork && result.work + cost > options.maxWork) return finishWith(LcpStatus::pivot_limit, "work budget exhausted");
+        if (options.maxWork && result.work + cost > options.maxWork) return finishWith(LcpStatus::pivot_limit, lcp_detail::kWorkBudgetMessage);
         const int m = ws.m;
         direction(m);
         const RatioTest test = ratioTest(m);
@@ -451,7 +451,7 @@ LcpResult LemkeSolver::Run::pivot() {
 // warm run, else with a 10x larger perturbation, at most 1e-2 (separating the ties that rounding confused).
 LcpResult LemkeSolver::Run::restart(bool wandered) {
     if (restartsLeft <= 0)
-        return finishWith(LcpStatus::pivot_limit, wandered ? "pivot cap reached" : "the pivot path cycles (rounding on a degenerate problem)");
+        return finishWith(LcpStatus::pivot_limit, wandered ? lcp_detail::kPivotCapMessage : "the pivot path cycles (rounding on a degenerate problem)");
     LcpOptions retry = options;
     retry.warmBasis = nullptr;
     retry.degeneracyPerturbation =

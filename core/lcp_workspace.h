@@ -21,6 +21,10 @@ namespace lcp_detail {
 
 constexpr double kTiny = 1e-300;
 
+/// The messages of a pivot_limit that the caller's caps caused (the robust path does not run after those).
+constexpr const char* kPivotCapMessage = "pivot cap reached";
+constexpr const char* kWorkBudgetMessage = "work budget exhausted";
+
 // The rank-one correction every pivot applies to the border's explicit inverse Sinv: row q of inv -= c_q v (c_q
 // negated when `negate`), for every row q < m except `skip`. On x86-64 GCC it is also built for AVX2, picked at
 // load time. Each element is one rounded product and one rounded difference in either clone (no FMA: the build

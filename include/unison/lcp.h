@@ -9,7 +9,9 @@
 //   - every solve ends with an explicit status, and `solved` is only reported after the complementarity
 //     residual of the returned (z, w) has been checked;
 //   - work is counted in deterministic units, never wall-clock time, so a frame budget gives the same answer on
-//     every machine.
+//     every machine;
+//   - a run that fails (not by the caller's caps) continues on a regularised robust path; solves that succeed
+//     never reach it.
 #pragma once
 
 #include <cstdint>
@@ -84,7 +86,7 @@ enum class LcpStatus {
     infeasible,        ///< secondary ray: no solution exists, or Lemke cannot reach one from this start
     pivot_limit,       ///< the pivot cap or the work budget ran out first
     invalid_input,     ///< NaN/Inf entries, negative size or mismatched sizes
-    numerical_failure  ///< z0 left the basis but the answer failed the residual check even after refinement
+    numerical_failure  ///< an answer that failed the residual check even after refinement (z and its residual kept)
 };
 
 /// Stable lower-case name of a status ("solved", "infeasible", ...), as printed by the command-line tool.
@@ -193,6 +195,10 @@ private:
     struct Run;  // one Lemke path by its phases (lcp.cpp)
     /// One Lemke run; `restartsLeft` bounds the restarts after a cycling pivot path.
     LcpResult run(Workspace& ws, const double* b, const LcpOptions& options, int restartsLeft = 2);
+    /// A Lemke run, continued by the robust path (lcp_robust.cpp) when it does not end `solved`.
+    LcpResult runRobust(Workspace& ws, const double* b, const LcpOptions& options);
+    /// The robust path: proximal-point regularisation of the loaded problem after `failed`, its first run.
+    LcpResult proximal(Workspace& ws, const double* b, const LcpOptions& options, LcpResult failed);
     Workspace& workspace();
     std::unique_ptr<Workspace> mWorkspace;  // buffers reused between solves; no state carries over
 };
