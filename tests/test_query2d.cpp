@@ -54,10 +54,21 @@ Shape2 randomPolygon(Rng& rng) {
 
 Shape2 randomShape(Rng& rng, bool allowSegment) {
     switch (rng.below(allowSegment ? 4 : 3)) {
-        case 0: return circle({rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)}, rng.uniform(0.1, 0.8));
-        case 1: return box(rng.uniform(0.1, 0.8), rng.uniform(0.1, 0.8), {rng.uniform(-0.3, 0.3), 0.0}, rng.uniform(-1, 1));
+        // The draws are sequenced (function arguments are evaluated in an unspecified order: GCC and clang differ).
+        case 0: {
+            const Vec2 c{rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)};
+            return circle(c, rng.uniform(0.1, 0.8));
+        }
+        case 1: {
+            const double hx = rng.uniform(0.1, 0.8), hy = rng.uniform(0.1, 0.8);
+            const Vec2 c{rng.uniform(-0.3, 0.3), 0.0};
+            return box(hx, hy, c, rng.uniform(-1, 1));
+        }
         case 2: return randomPolygon(rng);
-        default: return segment({rng.uniform(-1, 1), rng.uniform(-1, 1)}, {rng.uniform(-1, 1), rng.uniform(1.1, 2)});
+        default: {
+            const Vec2 a{rng.uniform(-1, 1), rng.uniform(-1, 1)};
+            return segment(a, {rng.uniform(-1, 1), rng.uniform(1.1, 2)});
+        }
     }
 }
 
