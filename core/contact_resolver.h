@@ -15,6 +15,8 @@
 
 #include <unison/lcp.h>
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 namespace unison {
@@ -71,6 +73,9 @@ struct ResolverOptions {
     /// the true problem by more than LcpOptions::residualTolerance and no continuation did better; such an answer
     /// is still an exact solution of an LCP within ~1e-7 of the given one.
     double acceptResidual = 0.0;
+    /// resolveWithFriction with a warm guess: stop (`pivot_limit`, bodies untouched) when the guess is refused,
+    /// instead of assembling the whole LCP for Lemke.
+    bool guessOnly = false;
     LcpOptions lcp;
 };
 
@@ -94,6 +99,7 @@ struct Resolution {
     bool approximate = false;      ///< the impulses are a `numerical_failure` answer accepted by acceptResidual
     bool fastPath = false;         ///< true when the single-contact closed form was used
     bool warmStarted = false;      ///< a guess was given and the answer came from it (not from a cold restart)
+    bool activeSet = false;        ///< the answer came from the active-set path (resolveActiveSet)
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
     std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve
@@ -154,5 +160,23 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
 template <class D>
 Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
                                const ResolverOptions& options, LemkeSolver& solver);
+
+/// Caps of the active-set fast path (resolveActiveSet).
+struct ActiveSetOptions {
+    int maxIterations = 12;          ///< iterations of the active-set phase (one sparse factorisation each)
+    std::uint64_t maxWork = 0;       ///< stop once this many work units are spent (0: no limit)
+};
+
+/// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started
+/// from the impulses each contact carried last step: `warm` holds per contact its normal impulse and then its
+/// D::kDim friction-impulse components (world frame). `solved` only when the Stewart–Trinkle LCP holds to
+/// options.lcp.residualTolerance (the rule of every Lemke answer), with the bodies updated as resolveWithFriction
+/// would; a best iterate within options.acceptResidual is applied as `numerical_failure` with `approximate` set (a
+/// near miss, as Lemke's); otherwise `pivot_limit` and the bodies untouched, for Lemke to take over. `activeSet` is
+/// set on every applied answer. 2D only (in 3D it declines).
+template <class D>
+Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
+                            const std::vector<double>& warm, const ResolverOptions& options,
+                            const ActiveSetOptions& settings);
 
 }  // namespace unison

@@ -655,6 +655,12 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             r = solver.checkGuess(std::move(part), options.lcp);
         }
     }
+    if (r.status != LcpStatus::solved && options.guessOnly) {
+        out.status = LcpStatus::pivot_limit;
+        out.work = r.work;
+        out.message = "the guessed basis was refused";
+        return out;
+    }
     if (r.status != LcpStatus::solved) {
         SparseLcp lcp = detail::writeFrictionRows<D, false>(sys, coupling, nullptr);
         lcp.b = std::move(sys.b);
@@ -681,6 +687,8 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
 
 }  // namespace unison
 
+#include "active_set_impl.h"
+
 /// Explicit instantiation of the whole resolver for one dimension trait (used once per dimension).
 #define UNISON_INSTANTIATE_RESOLVER(D)                                                                              \
     template double relativeNormalVelocity<D>(const std::vector<ResolverBody<D>>&, const ContactNode<D>&);        \
@@ -700,4 +708,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     template Resolution resolveCollisions<D>(std::vector<ResolverBody<D>>&, const std::vector<ContactNode<D>>&,   \
                                              const ResolverOptions&, LemkeSolver&);                               \
     template Resolution resolveWithFriction<D>(std::vector<ResolverBody<D>>&, const std::vector<ContactNode<D>>&, \
-                                               const ResolverOptions&, LemkeSolver&);
+                                               const ResolverOptions&, LemkeSolver&);                             \
+    template Resolution resolveActiveSet<D>(std::vector<ResolverBody<D>>&, const std::vector<ContactNode<D>>&,    \
+                                            const std::vector<double>&, const ResolverOptions&,                   \
+                                            const ActiveSetOptions&);

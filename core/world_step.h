@@ -88,6 +88,7 @@ struct StepStats {
     int acceptedInexact = 0;          ///< exact-solve answers accepted by the world's acceptResidual
     int unsolvedIslands = 0;          ///< islands that got no impulse at all (unlimited budget, both LCPs failed)
     int exactIslands = 0;             ///< islands with contacts whose LCP was solved
+    int activeSetIslands = 0;         ///< friction LCPs answered by the active-set path (resolveActiveSet)
     int approximateIslands = 0;       ///< islands with contacts given the bounded approximation (core/pgs.h)
     double maxApproximateResidual = 0.0;  ///< largest PgsResult::residual of an approximate island
     double maxScaledResidual = 0.0;   ///< the same, scaled: residual / max(|A|, |b|)
@@ -168,7 +169,9 @@ private:
         std::vector<int> warm;                  // the friction LCP's guessed basis from the cache
         std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
         std::vector<ContactKey> keys;           // (contacts) the answer's cache entries, being built
+        int activeSetContacts = 0;              // contacts whose last answer came from the active-set path
         void clear() {
+            activeSetContacts = 0;
             local.clear();
             bodies.clear();
             contacts.clear();
@@ -305,6 +308,7 @@ inline void accumulate(StepStats& into, const StepStats& from) {
     into.unsolvedIslands += from.unsolvedIslands;
     into.exactIslands += from.exactIslands;
     into.approximateIslands += from.approximateIslands;
+    into.activeSetIslands += from.activeSetIslands;
     into.maxApproximateResidual = std::max(into.maxApproximateResidual, from.maxApproximateResidual);
     into.maxScaledResidual = std::max(into.maxScaledResidual, from.maxScaledResidual);
 }

@@ -100,6 +100,7 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
         if (const int at = mHit[std::size_t(out.contacts[std::size_t(ci)])]; at >= 0) {
             const ContactKey& hit = cache.at(at);
             appendWarmBasis(hit.basicMask, ci, nc, k, out.warm);
+            if (hit.basicMask & kActiveSetEntry) ++out.activeSetContacts;
             approximateGuess = approximateGuess || (hit.basicMask & kApproximateEntry) != 0;
             out.impulses[std::size_t(ci)].normal = hit.normalImpulse;
             out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
@@ -183,8 +184,38 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor, (kDirs + 2) * std::uint64_t(nc)))
             return res;
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
-        res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
-        charge(res);
+        bool done = false;
+        // The active-set path (2D) answers islands that start cold or that it answered last step; an island that
+        // Lemke answered goes on with Lemke's warm start (its basis is a vertex, usually right as it stands).
+        if (D::kDim == 2 && nc >= kActiveSetMinContacts && (!options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc)) {
+            if (options.lcp.warmBasis) {
+                ResolverOptions guessOnly = options;
+                guessOnly.guessOnly = true;
+                res = resolveWithFriction(ioBodies, inNodes, guessOnly, worker.solver);
+                charge(res);
+                done = res.status == LcpStatus::solved;
+            }
+            if (!done) {
+                std::vector<double> warmImpulses(std::size_t(nc) * std::size_t(1 + D::kDim));
+                for (int ci = 0; ci < nc; ++ci) {
+                    warmImpulses[std::size_t(ci) * (1 + D::kDim)] = setup.impulses[std::size_t(ci)].normal;
+                    for (int d = 0; d < D::kDim; ++d)
+                        warmImpulses[std::size_t(ci) * (1 + D::kDim) + 1 + std::size_t(d)] = setup.impulses[std::size_t(ci)].tangent[d];
+                }
+                ActiveSetOptions as;
+                Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, as);
+                charge(fast);
+                if (usable(fast)) {
+                    res = std::move(fast);
+                    done = true;
+                    ++stats.activeSetIslands;
+                }
+            }
+        }
+        if (!done) {
+            res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
+            charge(res);
+        }
         if (options.lcp.warmBasis) {
             if (!res.warmStarted) ++stats.discardedGuesses;
             if (usable(res)) stats.basisChange += basisDistance(*options.lcp.warmBasis, res.basis);
@@ -253,6 +284,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         keys.push_back(key);
     }
     storeBasis(r.basis, nc, k, friction, keys.data());
+    if (r.activeSet) {
+        // Marked: the island's next solve starts with the active-set path too (see the solve lambda).
+        for (int ci = 0; ci < nc; ++ci) keys[std::size_t(ci)].basicMask |= kActiveSetEntry;
+    }
     for (int ci = 0; ci < nc; ++ci) {
         mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = keys[std::size_t(ci)];
         mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;

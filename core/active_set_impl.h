@@ -1,0 +1,458 @@
+// core/active_set_impl.h — template body of resolveActiveSet (core/contact_resolver.h): the fast path of an island's
+// friction LCP. Included at the end of core/contact_resolver_impl.h, so only the resolver's instantiation files see it.
+//
+// The problem is the one of resolveWithFriction (the paper's normal rows and the Stewart–Trinkle pyramid), written in
+// the unknowns a game engine thinks in: per contact a normal impulse p_n >= 0 and, in 2D, one signed tangent impulse
+// p_t along +t with |p_t| <= mu p_n (the 2D pyramid's two directions are +t and -t, so the pyramid is exactly this
+// interval). The method is an active-set (primal-dual, semismooth Newton) iteration that may change every contact's
+// state at once:
+//   - a contact is separated (p_n = p_t = 0), sticking (u_n = u_t = 0) or slipping (u_n = 0, p_t = +-mu p_n), u the
+//     post-impulse velocities of the LCP's rows;
+//   - the step for those equations is one sparse LU factorisation (Eigen, COLAMD ordering) in body space: unknowns
+//     are the bodies' momentum changes (3 per movable body) and the free impulses, equations y = J~^T dp (J~ the rows
+//     of the free impulses, a slipping contact's normal column carrying +-mu times its tangent row) and
+//     J M^-1 y + eps G_ii dp = -u' (G the diagonal of J M^-1 J^T). The proximal term eps keeps the system regular:
+//     piles have more rows than degrees of freedom, so J M^-1 J^T is singular, and without it a step follows the
+//     singular directions arbitrarily far;
+//   - phase 0 (8 iterations) keeps the face of the warm start: contacts pushing stay active, contacts inside their
+//     cone stick, the rest slip, and only a separated contact that approaches faster than the tolerance joins. A
+//     resting island's face rarely changes, so this is usually 1-4 factorisations;
+//   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
+//     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
+//     touching and sticking), with u' the velocities of the proximal sub-problem u + eps G_ii (p - centre): eps
+//     starts at 1e-4 and the centre moves, with eps 10x smaller, whenever the states repeat; a step that raises the
+//     summed squared natural residual is halved up to 3 times;
+//   - phase 2 (8 iterations) keeps the face of phase 1's best iterate: degenerate contacts of a pile (no load, no
+//     approach) make the states of phase 1 alternate, and fixing them lets the iterate settle on the face.
+// It starts from the impulses the contacts carried last step (matched through feature ids), or from zero.
+//
+// Certification: an iterate is the answer only when the Stewart–Trinkle LCP itself holds: z = (p_n, max(p_t, 0),
+// max(-p_t, 0), lambda = |u_t|) and w = A z + b evaluated from the same rows (matrix-free, per body) have
+// max |min(z_i, w_i)| <= options.lcp.residualTolerance * max(max |A_ij|, max |b_i|), the rule every Lemke answer
+// passes; each step is also checked after projecting it onto p_n >= 0, |p_t| <= mu p_n (degenerate contacts end a
+// rounding step outside). A best iterate within options.acceptResidual is a near miss, applied and flagged as
+// Lemke's are; otherwise the caller goes on with Lemke (the guarantee). Every loop runs in index order and Eigen's sparse
+// LU with its COLAMD ordering is a pure function of the matrix, so the answer is the same bits everywhere.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+namespace unison {
+
+template <class D>
+Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
+                            const std::vector<double>& warm, const ResolverOptions& options,
+                            const ActiveSetOptions& settings) {
+    Resolution out;
+    out.status = LcpStatus::pivot_limit;
+    if constexpr (D::kDim != 2) {
+        out.message = "active-set path: 2D only";
+        return out;
+    } else {
+        out.message = validate(ioBodies, contacts);
+        if (!out.message.empty()) {
+            out.status = LcpStatus::invalid_input;
+            return out;
+        }
+        const int nc = int(contacts.size());
+        const int nb = int(ioBodies.size());
+        if (nc == 0 || warm.size() != std::size_t(nc) * std::size_t(1 + D::kDim)) {
+            out.message = "active-set path: no contacts or warm impulses of the wrong size";
+            return out;
+        }
+        ResolverOptions rowOptions = options;
+        rowOptions.frictionDirections = 2;
+        const detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, rowOptions);
+        const int tOff = nc;  // +t row of contact c: tOff + 2c (its -t row, tOff + 2c + 1, is the exact negation)
+        // Degrees of freedom: 3 per movable body (vx, vy, omega).
+        std::vector<int> dof(std::size_t(nb), -1);
+        int ndof = 0;
+        for (int k = 0; k < nb; ++k) {
+            if (!detail::isImmovable(ioBodies[std::size_t(k)])) {
+                dof[std::size_t(k)] = ndof;
+                ndof += 3;
+            }
+        }
+        auto rowAt = [&](int c, int r) -> const detail::JacobianRow<D>& {
+            return sys.rows[std::size_t(r == 0 ? c : tOff + 2 * c)];
+        };
+        auto bAt = [&](int c, int r) { return sys.b[std::size_t(r == 0 ? c : tOff + 2 * c)]; };
+        // Diagonal of J M^-1 J^T per unknown, and the LCP's scale (as writeFrictionRows: 1, every mu, every diagonal;
+        // then max |b|).
+        std::vector<double> diag(std::size_t(2 * nc), 0.0);
+        double maxAbs = 1.0, bMax = 0.0;
+        for (int c = 0; c < nc; ++c) {
+            for (int r = 0; r < 2; ++r) {
+                const detail::JacobianRow<D>& row = rowAt(c, r);
+                double g = 0.0;
+                for (int s = 0; s < 2; ++s) {
+                    const ResolverBody<D>& B = ioBodies[std::size_t(row.body[s])];
+                    if (dof[std::size_t(row.body[s])] < 0) continue;
+                    g += B.invMass * D::dot(row.lin[s], row.lin[s]) + B.invInertia * row.ang[s] * row.ang[s];
+                }
+                diag[std::size_t(2 * c + r)] = g;
+                maxAbs = std::max(maxAbs, g);
+                bMax = std::max(bMax, std::fabs(bAt(c, r)));
+            }
+            maxAbs = std::max(maxAbs, sys.mu[std::size_t(c)]);
+            if (!(diag[std::size_t(2 * c)] > 0.0)) {
+                out.message = "active-set path: a contact between immovable bodies";
+                return out;
+            }
+        }
+        const double scale = std::max(maxAbs, bMax);
+        const double tolAbs = options.lcp.residualTolerance * scale;
+        std::uint64_t work = 0;
+        const std::uint64_t rowWork = std::uint64_t(16 * nc + 4 * nb);  // one matrix-free product and its residuals
+
+        // u = b + J M^-1 J^T x, per body (x: p_n, p_t of contact c at 2c, 2c + 1).
+        std::vector<double> mom(std::size_t(3 * nb));
+        auto velocities = [&](const std::vector<double>& x, std::vector<double>& u) {
+            std::fill(mom.begin(), mom.end(), 0.0);
+            for (int c = 0; c < nc; ++c) {
+                for (int r = 0; r < 2; ++r) {
+                    const double p = x[std::size_t(2 * c + r)];
+                    if (p == 0.0) continue;
+                    const detail::JacobianRow<D>& row = rowAt(c, r);
+                    for (int s = 0; s < 2; ++s) {
+                        const int k = row.body[s];
+                        if (dof[std::size_t(k)] < 0) continue;
+                        mom[std::size_t(3 * k)] += p * row.lin[s].x;
+                        mom[std::size_t(3 * k + 1)] += p * row.lin[s].y;
+                        mom[std::size_t(3 * k + 2)] += p * row.ang[s];
+                    }
+                }
+            }
+            for (int k = 0; k < nb; ++k) {
+                if (dof[std::size_t(k)] < 0) continue;
+                const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                mom[std::size_t(3 * k)] *= B.invMass;
+                mom[std::size_t(3 * k + 1)] *= B.invMass;
+                mom[std::size_t(3 * k + 2)] *= B.invInertia;
+            }
+            for (int c = 0; c < nc; ++c) {
+                for (int r = 0; r < 2; ++r) {
+                    const detail::JacobianRow<D>& row = rowAt(c, r);
+                    double v = bAt(c, r);
+                    for (int s = 0; s < 2; ++s) {
+                        const int k = row.body[s];
+                        if (dof[std::size_t(k)] < 0) continue;
+                        v += row.lin[s].x * mom[std::size_t(3 * k)] + row.lin[s].y * mom[std::size_t(3 * k + 1)] +
+                             row.ang[s] * mom[std::size_t(3 * k + 2)];
+                    }
+                    u[std::size_t(2 * c + r)] = v;
+                }
+            }
+        };
+        // The Stewart–Trinkle LCP's complementarity residual of (x, u) (see the header comment).
+        auto lcpResidual = [&](const std::vector<double>& x, const std::vector<double>& u) {
+            double res = 0.0;
+            for (int c = 0; c < nc; ++c) {
+                const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+                const double un = u[std::size_t(2 * c)], ut = u[std::size_t(2 * c + 1)];
+                const double bp = std::max(pt, 0.0), bm = std::max(-pt, 0.0), lam = std::fabs(ut);
+                res = std::max(res, std::fabs(std::min(pn, un)));
+                res = std::max(res, std::fabs(std::min(bp, ut + lam)));
+                res = std::max(res, std::fabs(std::min(bm, -ut + lam)));
+                res = std::max(res, std::fabs(std::min(lam, sys.mu[std::size_t(c)] * pn - bp - bm)));
+            }
+            return res;
+        };
+        // Sum of squared natural residuals, in velocity units.
+        auto merit = [&](const std::vector<double>& x, const std::vector<double>& u) {
+            double m = 0.0;
+            for (int c = 0; c < nc; ++c) {
+                const double gn = diag[std::size_t(2 * c)], gt = diag[std::size_t(2 * c + 1)];
+                const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+                const double fn = std::min(pn * gn, u[std::size_t(2 * c)]);
+                const double bound = sys.mu[std::size_t(c)] * pn;
+                double ft = 0.0;
+                if (gt > 0.0) {
+                    const double yt = pt - u[std::size_t(2 * c + 1)] / gt;
+                    ft = (pt - std::min(bound, std::max(-bound, yt))) * gt;
+                }
+                m += fn * fn + ft * ft;
+            }
+            return m;
+        };
+        auto project = [&](std::vector<double>& x) {
+            for (int c = 0; c < nc; ++c) {
+                double& pn = x[std::size_t(2 * c)];
+                double& pt = x[std::size_t(2 * c + 1)];
+                pn = std::max(pn, 0.0);
+                const double bound = sys.mu[std::size_t(c)] * pn;
+                pt = std::min(bound, std::max(-bound, pt));
+            }
+        };
+
+        std::vector<double> x(std::size_t(2 * nc)), u(std::size_t(2 * nc));
+        for (int c = 0; c < nc; ++c) {
+            const double* w = &warm[std::size_t(c) * std::size_t(1 + D::kDim)];
+            x[std::size_t(2 * c)] = w[0];
+            x[std::size_t(2 * c + 1)] = D::dot(D::fromComponents(w + 1), sys.dirs[std::size_t(2 * c)]);
+        }
+        project(x);
+        velocities(x, u);
+        work += rowWork;
+        double currentMerit = merit(x, u);
+
+        enum : std::uint8_t { kSeparated, kStick, kSlipPlus, kSlipMinus };
+        std::vector<std::uint8_t> state(static_cast<std::size_t>(nc), std::uint8_t(0));
+        std::vector<int> freeIndex(std::size_t(2 * nc));
+        std::vector<int> freeUnknown;
+        std::vector<Eigen::Triplet<double>> triplets;
+        std::vector<double> dx(std::size_t(2 * nc)), xt(std::size_t(2 * nc)), ut(std::size_t(2 * nc));
+        Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+        int iterations = 0;
+        bool solved = false;
+        // Proximal term of phase 1, relative to each row's diagonal: 1e-4 at first, 10x smaller each time the states
+        // repeat (the sub-problem is solved), down to 1e-7; phases 0 and 2 use 1e-6 with the centre at the iterate.
+        constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
+        // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
+        constexpr int kPolish = 8, kHalvings = 3;
+        double epsRel = kEps0;
+        std::vector<double> center = x, ue(x.size());
+        std::vector<std::uint8_t> lastState(static_cast<std::size_t>(nc), std::uint8_t(255));
+        std::vector<double> bestX = x, bestU = u;
+        const std::vector<double> warmX = x, warmU = u;
+        double bestResidual = lcpResidual(x, u);
+        // Phases: 0 refines on the face of the warm start (a resting pile's face rarely changes), 1 is the
+        // active-set iteration proper, 2 refines on the face of the best iterate of phase 1.
+        int phase = 0;
+        bool polish = true;
+        int limit = kPolish;
+        epsRel = kPolishEps;
+        for (;;) {
+            if (lcpResidual(x, u) <= tolAbs) {
+                solved = true;
+                break;
+            }
+            if (settings.maxWork > 0 && work >= settings.maxWork) break;
+            if (iterations >= limit) {
+                if (phase == 2) break;
+                if (phase == 0) {
+                    // The active-set iteration from the warm start.
+                    phase = 1;
+                    polish = false;
+                    limit = iterations + settings.maxIterations;
+                    x = warmX;
+                    u = warmU;
+                    center = x;
+                    epsRel = kEps0;
+                    std::fill(lastState.begin(), lastState.end(), std::uint8_t(255));
+                } else {
+                    // The states oscillate among degenerate contacts: fix the face of the best iterate (its positive
+                    // impulses, its sticking and slipping contacts) and refine on it.
+                    phase = 2;
+                    polish = true;
+                    limit = iterations + kPolish;
+                    x = bestX;
+                    u = bestU;
+                    epsRel = kPolishEps;
+                }
+            }
+            if (polish) center = x;
+            ++iterations;
+            // The proximal sub-problem's velocities: u + eps G_ii (x - center).
+            for (std::size_t i = 0; i < x.size(); ++i) ue[i] = u[i] + epsRel * diag[i] * (x[i] - center[i]);
+            // The contacts' states, and the free unknowns (velocity equations).
+            freeUnknown.clear();
+            for (int c = 0; c < nc; ++c) {
+                const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+                const double yn = polish ? (pn > 0.0 || u[std::size_t(2 * c)] < -tolAbs ? 1.0 : -1.0)
+                                         : pn - ue[std::size_t(2 * c)] / diag[std::size_t(2 * c)];
+                freeIndex[std::size_t(2 * c)] = freeIndex[std::size_t(2 * c + 1)] = -1;
+                // Ties within the tolerance count as touching: a resting contact's u_n is 0 up to rounding.
+                if (!(yn >= -tolAbs / diag[std::size_t(2 * c)])) {
+                    state[std::size_t(c)] = kSeparated;
+                    continue;
+                }
+                freeIndex[std::size_t(2 * c)] = int(freeUnknown.size());
+                freeUnknown.push_back(2 * c);
+                const double gt = diag[std::size_t(2 * c + 1)];
+                const double bound = sys.mu[std::size_t(c)] * (polish ? pn : yn);
+                const double yt = gt > 0.0 ? (polish ? pt : pt - ue[std::size_t(2 * c + 1)] / gt) : 0.0;
+                if (gt > 0.0 && (polish ? std::fabs(pt) < sys.mu[std::size_t(c)] * pn : std::fabs(yt) <= bound + tolAbs / gt)) {
+                    state[std::size_t(c)] = kStick;
+                    freeIndex[std::size_t(2 * c + 1)] = int(freeUnknown.size());
+                    freeUnknown.push_back(2 * c + 1);
+                } else {
+                    state[std::size_t(c)] = yt >= 0.0 ? kSlipPlus : kSlipMinus;
+                }
+            }
+            // Known parts of the step: separated contacts let go, slipping ones keep p_t = +-mu p_n.
+            std::vector<double> rhs(std::size_t(ndof + int(freeUnknown.size())), 0.0);
+            auto addMomentum = [&](int c, int r, double p) {  // rhs body rows += J_r^T p
+                if (p == 0.0) return;
+                const detail::JacobianRow<D>& row = rowAt(c, r);
+                for (int s = 0; s < 2; ++s) {
+                    const int d = dof[std::size_t(row.body[s])];
+                    if (d < 0) continue;
+                    rhs[std::size_t(d)] += p * row.lin[s].x;
+                    rhs[std::size_t(d + 1)] += p * row.lin[s].y;
+                    rhs[std::size_t(d + 2)] += p * row.ang[s];
+                }
+            };
+            for (int c = 0; c < nc; ++c) {
+                const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+                const double mu = sys.mu[std::size_t(c)];
+                if (state[std::size_t(c)] == kSeparated) {
+                    addMomentum(c, 0, -pn);
+                    addMomentum(c, 1, -pt);
+                } else if (state[std::size_t(c)] != kStick) {
+                    const double sgn = state[std::size_t(c)] == kSlipPlus ? 1.0 : -1.0;
+                    addMomentum(c, 1, sgn * mu * pn - pt);
+                }
+            }
+            // The body-space system: [I, -J~^T; J M^-1, eps I] [y; dp] = [known momentum; -u]. The proximal term
+            // follows the residual: a step cannot move an impulse much further than u / eps along the directions the
+            // redundant rows leave singular.
+
+            triplets.clear();
+            const int nf = int(freeUnknown.size());
+            for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
+            for (int f = 0; f < nf; ++f) {
+                const int unknown = freeUnknown[std::size_t(f)];
+                const int c = unknown / 2, r = unknown % 2;
+                const int col = ndof + f;
+                const std::uint8_t st = state[std::size_t(c)];
+                const double slip = r == 0 && (st == kSlipPlus || st == kSlipMinus)
+                                        ? (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)]
+                                        : 0.0;
+                const detail::JacobianRow<D>& row = rowAt(c, r);
+                const detail::JacobianRow<D>& trow = rowAt(c, 1);
+                for (int s = 0; s < 2; ++s) {
+                    const int k = row.body[s];
+                    const int d = dof[std::size_t(k)];
+                    if (d < 0) continue;
+                    const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                    // Column: -(row + slip * tangent row) on the body's momentum rows (same bodies, same slot).
+                    triplets.emplace_back(d, col, -(row.lin[s].x + slip * trow.lin[s].x));
+                    triplets.emplace_back(d + 1, col, -(row.lin[s].y + slip * trow.lin[s].y));
+                    triplets.emplace_back(d + 2, col, -(row.ang[s] + slip * trow.ang[s]));
+                    // Row: J_r M^-1.
+                    triplets.emplace_back(col, d, row.lin[s].x * B.invMass);
+                    triplets.emplace_back(col, d + 1, row.lin[s].y * B.invMass);
+                    triplets.emplace_back(col, d + 2, row.ang[s] * B.invInertia);
+                }
+                triplets.emplace_back(col, col, epsRel * diag[std::size_t(unknown)]);
+                rhs[std::size_t(col)] = -ue[std::size_t(unknown)];
+            }
+            const int n = ndof + nf;
+            Eigen::SparseMatrix<double> K(n, n);
+            K.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
+            lu.analyzePattern(K);
+            lu.factorize(K);
+            if (lu.info() != Eigen::Success) break;
+            Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
+            const Eigen::VectorXd sol = lu.solve(rv);
+            work += std::uint64_t(K.nonZeros()) + 2 * std::uint64_t(lu.nnzL() + lu.nnzU()) + rowWork;
+            // The whole step.
+            for (int c = 0; c < nc; ++c) {
+                const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+                const std::uint8_t st = state[std::size_t(c)];
+                if (st == kSeparated) {
+                    dx[std::size_t(2 * c)] = -pn;
+                    dx[std::size_t(2 * c + 1)] = -pt;
+                    continue;
+                }
+                const double dn = sol[ndof + freeIndex[std::size_t(2 * c)]];
+                dx[std::size_t(2 * c)] = dn;
+                if (st == kStick) {
+                    dx[std::size_t(2 * c + 1)] = sol[ndof + freeIndex[std::size_t(2 * c + 1)]];
+                } else {
+                    const double sgn = st == kSlipPlus ? 1.0 : -1.0;
+                    dx[std::size_t(2 * c + 1)] = sgn * sys.mu[std::size_t(c)] * (pn + dn) - pt;
+                }
+            }
+            bool finite = true;
+            for (double v : dx) finite = finite && std::isfinite(v);
+            if (!finite) break;
+            // The full step (a primal-dual active-set iteration: the next states are read off the unprojected
+            // iterate; infeasible iterates are never certified).
+            const int halvings = polish ? 0 : kHalvings;
+            double bestMerit = 0.0;
+            for (int h = 0, alphaOk = 0; h <= halvings && !alphaOk; ++h) {
+                const double alpha = std::ldexp(1.0, -h);
+                for (std::size_t i = 0; i < x.size(); ++i) xt[i] = x[i] + alpha * dx[i];
+                velocities(xt, ut);
+                work += rowWork;
+                bestMerit = merit(xt, ut);
+                alphaOk = bestMerit < currentMerit || h == halvings;
+            }
+            {
+                // The step's projection onto p_n >= 0, |p_t| <= mu p_n: degenerate contacts end a little outside.
+                std::vector<double> xp = xt, up(u.size());
+                project(xp);
+                velocities(xp, up);
+                work += rowWork;
+                const double r = lcpResidual(xp, up);
+                if (r <= tolAbs) {
+                    x.swap(xp);
+                    u.swap(up);
+                    solved = true;
+                    break;
+                }
+                if (r < bestResidual) {
+                    bestResidual = r;
+                    bestX = xp;
+                    bestU = up;
+                }
+            }
+            x.swap(xt);
+            u.swap(ut);
+            currentMerit = bestMerit;
+            // States unchanged: the sub-problem is solved (its Newton step was exact); move the centre, tighten eps.
+            if (state == lastState) {
+                center = x;
+                epsRel = std::max(kFloor, epsRel * kShrink);
+            }
+            lastState = state;
+        }
+        out.pivots = 0;
+        out.work = work;
+        out.residual = lcpResidual(x, u);
+        out.scaledResidual = out.residual / scale;
+        if (!solved) {
+            // A near miss, as Lemke's: the best iterate is applied when the caller accepts its residual.
+            if (bestResidual / scale <= options.acceptResidual) {
+                x.swap(bestX);
+                u.swap(bestU);
+                out.residual = bestResidual;
+                out.scaledResidual = bestResidual / scale;
+                out.status = LcpStatus::numerical_failure;
+                out.approximate = true;
+            } else {
+                out.message = "active-set path: not certified after " + std::to_string(iterations) + " iterations";
+                return out;
+            }
+        } else {
+            out.status = LcpStatus::solved;
+        }
+        out.activeSet = true;
+        out.message.clear();
+        // The Stewart–Trinkle basis the answer stands on (the next step's warm guess): p_n > 0, the pushing tangent
+        // direction, and the slack where the contact slips on the cone's rim.
+        out.impulses.resize(std::size_t(nc));
+        std::vector<typename D::Vec> tangent(static_cast<std::size_t>(nc), D::zeroVec());
+        for (int c = 0; c < nc; ++c) {
+            const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
+            out.impulses[std::size_t(c)] = pn;
+            tangent[std::size_t(c)] = D::scale(pt, sys.dirs[std::size_t(2 * c)]);
+            if (pn > 0.0) out.basis.push_back(c);
+            if (pt > 0.0) out.basis.push_back(nc + 2 * c);
+            if (pt < 0.0) out.basis.push_back(nc + 2 * c + 1);
+            if (pn > 0.0 && std::fabs(pt) >= sys.mu[std::size_t(c)] * pn && u[std::size_t(2 * c + 1)] != 0.0)
+                out.basis.push_back(3 * nc + c);
+        }
+        std::sort(out.basis.begin(), out.basis.end());
+        for (const auto& t : tangent) {
+            for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(t[d]);
+        }
+        applyImpulses(ioBodies, contacts, out.impulses, &tangent);
+        return out;
+    }
+}
+
+}  // namespace unison
