@@ -30,7 +30,8 @@ struct WorldSettings {
     /// scaled residual is at most this; only beyond it does the island fall back to the frictionless LCP.
     /// StepStats counts such islands and reports the largest scaled residual.
     double acceptResidual = 1e-6;
-    /// Per-island solver options; maxPivots 0 = 2n + 100 per island LCP.
+    /// Per-island solver options; maxPivots 0 = 8n + 100 (2D) or 2n + 100 (3D) for the friction LCP (n unknowns),
+    /// 10 nc + 1000 for the frictionless fallback (nc contacts).
     LcpOptions lcp;
     /// Work units one step may spend (core/step_budget.h; work::fromMilliseconds converts a time on the reference
     /// machine), 0 = unlimited. Islands the budget cannot solve exactly get a bounded approximation (StepStats

@@ -111,6 +111,7 @@ struct StepControl {
 ///                                  maxCorrectionSpeed, tangentDeadZone, enableSleep, linearSleepTolerance,
 ///                                  angularSleepTolerance, timeToSleep, lcp
 ///   frictionDirections()           k of the pyramid; acceptResidual(): see WorldDef2::acceptResidual (0: never)
+///   frictionPivotsPerUnknown()     c of the friction LCP's pivot cap c n + 100 (n unknowns) when def().lcp.maxPivots is 0
 ///   speculativeBand()              a point with separation s > 0 and closing speed u (< 0 closing) enters the LCP
 ///                                  only when s + dt min(u, 0) < band (WorldDef3::speculativeBand; infinity: all)
 ///   transform(state)               the body's placement, as computeAabb() and narrowphase() take it

@@ -132,6 +132,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     std::vector<ContactNode<D>>& nodes = setup.nodes;
     const int nc = int(nodes.size());
     const int k = hooks.frictionDirections();
+    const int pivotsPerUnknown = hooks.frictionPivotsPerUnknown();
     const bool budgeted = mControl.budget > 0;
     StepStats& stats = job.stats;
     ResolverOptions options;
@@ -168,9 +169,12 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         stats.lcpWork += res.work;
     };
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
-    // solution for approaching contacts between bodies that can move). A frame must not stall: a healthy path
-    // takes about n/2 pivots, so 2n + 100 bounds a bad one (n = (k + 2) nc unknowns). def.lcp.maxPivots
-    // overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
+    // solution for approaching contacts between bodies that can move). A frame must not stall, so the friction
+    // solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns, c = hooks.frictionPivotsPerUnknown(): 8 in 2D,
+    // 2 in 3D). A settled island takes about n/2, but a tall structure that stands by friction alone takes 2-5n
+    // while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not a stalled one:
+    // the frictionless answer lets the structure slide, the next step starts farther from rest, and the island
+    // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
     // approximated instead); only a failure of another kind tries the frictionless LCP.
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
@@ -180,7 +184,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
         const std::uint64_t guess = inWarm ? std::uint64_t(inWarm->size()) : 0;
         const std::uint64_t firstFactor = guess > 0 ? guess * guess + (kDirs + 2) * std::uint64_t(nc) : 0;
-        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 2 * (k + 2) * nc + 100;
+        options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : pivotsPerUnknown * (k + 2) * nc + 100;
         if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor, (kDirs + 2) * std::uint64_t(nc)))
             return res;
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;

@@ -81,6 +81,9 @@ struct World2::Hooks {
     const WorldDef2& def() const { return world.mDef; }
     int frictionDirections() const { return Dim2::frictionDirectionCount(2); }  // +t and -t: the exact 2D pyramid
     double acceptResidual() const { return world.mDef.acceptResidual; }
+    /// A structure that stands by friction alone (Box2D v3's card house) takes 2-5n pivots while it lands, and a
+    /// cut-off landing never recovers (see solveIsland): 8n + 100 keeps a 7-level house up; 2n + 100 fells 5 levels.
+    int frictionPivotsPerUnknown() const { return 8; }
     /// 2D keeps every speculative point the narrowphase returns (its targets were measured that way).
     double speculativeBand() const { return std::numeric_limits<double>::infinity(); }
     double worldInvInertia(const BodyState2& s, const BodyInfo2& info) const { return World2::worldInvInertia(s, info); }

@@ -157,6 +157,32 @@ TEST_CASE("rotated box: 1 corner point within the speculative distance, 2 points
     CHECK(deep.points[0].separation == doctest::Approx(-0.01).epsilon(1e-9));
 }
 
+TEST_CASE("thin card: one point at the deeper corner of a face shorter than 5 mm, two on its long face") {
+    // A card 2 mm thick and 40 cm long. Standing on its end, leaning 25 degrees, it touches the ground at the lower
+    // corner of its 2 mm end (the other corner is 0.85 mm higher): one point, not two rows 2 mm apart.
+    const Shape2 card = box(0.001, 0.2), ground = box(10.0, 1.0);
+    const double lean = 25.0 * dmath::kPi / 180.0;
+    const Rot2 q = makeRot(lean);
+    const Vec2 lower = rotate(q, {-0.001, -0.2}), upper = rotate(q, {0.001, -0.2});  // the end's two corners
+    REQUIRE(lower.y < upper.y);
+    const double y = -lower.y - 0.001;  // the lower corner 1 mm deep
+    for (int order = 0; order < 2; ++order) {
+        const Manifold2 m = order == 0 ? collide(card, at(0.0, y, lean), ground, at(0.0, -1.0), kSpec)
+                                       : collide(ground, at(0.0, -1.0), card, at(0.0, y, lean), kSpec);
+        REQUIRE(m.count == 1);
+        checkVec(m.normal, 0.0, order == 0 ? 1.0 : -1.0);
+        CHECK(m.points[0].separation == doctest::Approx(-0.001).epsilon(1e-9));
+        CHECK(m.points[0].point.x == doctest::Approx(lower.x).epsilon(1e-9));
+    }
+    // Standing upright, both corners equally deep: the first stays.
+    const Manifold2 upright = collide(card, at(0.0, 0.2 - 0.001), ground, at(0.0, -1.0), kSpec);
+    REQUIRE(upright.count == 1);
+    CHECK(upright.points[0].separation == doctest::Approx(-0.001).epsilon(1e-9));
+    // The card lying flat on its long face keeps both corners, and so does a 1 cm box (faces longer than 5 mm).
+    CHECK(collide(card, at(0.0, 0.001 - 0.0005, 0.5 * dmath::kPi), ground, at(0.0, -1.0), kSpec).count == 2);
+    CHECK(collide(box(0.005, 0.005), at(0.0, 0.005 - 0.001), ground, at(0.0, -1.0), kSpec).count == 2);
+}
+
 TEST_CASE("feature ids stay the same under tiny motions (warm starts match)") {
     struct Case {
         Shape2 a;
