@@ -20,12 +20,54 @@
 
 namespace unison::bench {
 
-// ---- Hook: Unison's fast path ------------------------------------------------------------------------------------
-// The "fast" columns call this function. Until the island fast path exists it is the same LemkeSolver, and the
-// header of the table says so (kFastPathWired = false). Wire the fast path's entry point here and set the flag.
-constexpr bool kFastPathWired = false;
-LcpResult unisonFastPath(LemkeSolver& solver, const SparseLcp& lcp, const LcpOptions& options) {
-    return solver.solve(lcp, options);
+// ---- Unison's fast path ------------------------------------------------------------------------------------------
+// The "fast" column is what a world does with such an island: the active-set path (resolveActiveSet) from a cold
+// start on the snapshot's bodies and contact nodes, Lemke (with its robust path) when it does not certify its
+// answer. The active-set path works on the bodies, so a float-assembled member, which has none, goes to Lemke
+// directly. The answer is returned as the member's z (friction: [normals | +t, -t per contact | slacks]).
+LcpResult unisonFastPath(LemkeSolver& solver, const ManifoldLcp& m, const ManifoldSnapshot& snap,
+                         const LcpOptions& options, bool* usedActiveSet) {
+    *usedActiveSet = false;
+    if (m.data == ManifoldData::floatData) return solver.solve(m.lcp, options);
+    std::vector<ResolverBody<Dim2>> bodies;
+    std::vector<ContactNode<Dim2>> contacts;
+    toResolverInput(snap, &bodies, &contacts);
+    if (!m.friction)
+        for (auto& c : contacts) c.friction = 0.0;
+    ResolverOptions ro;  // as assembleManifoldLcp: threshold 0, e = 0, no tangent dead zone
+    ro.frictionDirections = 2;
+    ro.lcp = options;
+    const std::vector<double> cold(contacts.size() * 3, 0.0);
+    const Resolution r = resolveActiveSet(bodies, contacts, cold, ro, ActiveSetOptions{});
+    if (r.status != LcpStatus::solved) return solver.solve(m.lcp, options);
+    *usedActiveSet = true;
+    const int nc = int(contacts.size()), n = m.lcp.n;
+    LcpResult out;
+    out.status = r.status;
+    out.z.assign(std::size_t(n), 0.0);
+    for (int c = 0; c < nc; ++c) out.z[std::size_t(c)] = r.impulses[std::size_t(c)];
+    if (m.friction) {
+        for (int c = 0; c < nc; ++c) {
+            const Vec2 t{r.tangentImpulses[std::size_t(2 * c)], r.tangentImpulses[std::size_t(2 * c + 1)]};
+            const double pt = dot(t, frictionDirections(contacts[std::size_t(c)], 2)[0]);
+            out.z[std::size_t(nc + 2 * c)] = std::max(pt, 0.0);
+            out.z[std::size_t(nc + 2 * c + 1)] = std::max(-pt, 0.0);
+        }
+        // lambda: the smallest slack that makes both tangent rows non-negative (|u_t| at an answer).
+        for (int c = 0; c < nc; ++c) {
+            double lambda = 0.0;
+            for (int m2 = 0; m2 < 2; ++m2) {
+                const int i = nc + 2 * c + m2;
+                double w = m.lcp.b[std::size_t(i)];
+                for (int e = m.lcp.rowStart[std::size_t(i)]; e < m.lcp.rowStart[std::size_t(i) + 1]; ++e)
+                    w += m.lcp.vals[std::size_t(e)] * out.z[std::size_t(m.lcp.cols[std::size_t(e)])];
+                lambda = std::max(lambda, -w);
+            }
+            out.z[std::size_t(3 * nc + c)] = lambda;
+        }
+    }
+    out.scaledResidual = r.scaledResidual;
+    return out;
 }
 
 namespace {
@@ -68,12 +110,15 @@ void judge(const ManifoldLcp& m, Solve& s, bool solved, double reported) {
     if (!s.met) s.why = s.residual > 1e-6 ? "residual > 1e-6" : !honest ? "dishonest status or residual" : "status " + s.status;
 }
 
-Solve runUnison(const ManifoldLcp& m, bool fast, double budgetMs) {
+Solve runUnison(const ManifoldLcp& m, const ManifoldSnapshot& snap, bool fast, double budgetMs) {
     LemkeSolver solver;
-    auto call = [&] { return fast ? unisonFastPath(solver, m.lcp, LcpOptions{}) : solver.solve(m.lcp, LcpOptions{}); };
+    bool activeSet = false;
+    auto call = [&] {
+        return fast ? unisonFastPath(solver, m, snap, LcpOptions{}, &activeSet) : solver.solve(m.lcp, LcpOptions{});
+    };
     const LcpResult r = call();
     Solve s;
-    s.status = statusName(r.status);
+    s.status = std::string(activeSet ? "as:" : "") + statusName(r.status);
     s.pivots = r.pivots;
     s.residual = scaledResidual(m.lcp, r.z);
     s.ms = bestMs([&] { (void)call(); }, budgetMs);
@@ -116,7 +161,8 @@ nlohmann::json runManifoldFamily(bool quick, double budgetMs, const std::string&
     const std::vector<int> sizes = quick ? std::vector<int>{12} : std::vector<int>{12, 20, 30};
     std::printf("\nBox2D-manifold LCPs: contact LCPs assembled from Box2D 2.4.1's own manifolds of settled testbed "
                 "pyramids\n(double data: target solved <= 1e-9; float data: target <= 1e-6 with an honest status); "
-                "fast = %s\n", kFastPathWired ? "Unison's island fast path" : "Unison's fast path NOT WIRED YET: the same Lemke");
+                "fast = the active-set path from a cold start on the bodies (as:), Lemke where it does not certify or where "
+                "the member has no bodies (float data)\n");
     std::printf("%-34s %5s | %-17s %6s %9s %8s %-4s | %-17s %6s %9s %8s %-4s | %-17s %6s %9s %8s %-4s\n", "case", "n",
                 "fast", "piv", "ms", "sres", "tgt", "lemke", "piv", "ms", "sres", "tgt", "siconos", "iter", "ms", "sres", "tgt");
     nlohmann::json out = nlohmann::json::array();
@@ -124,12 +170,13 @@ nlohmann::json runManifoldFamily(bool quick, double budgetMs, const std::string&
     double fast20 = -1.0, lemke20 = -1.0;
     bool fast20Met = false;
     for (int rows : sizes) {
-        std::vector<ManifoldLcp> family = manifoldLcpsOf(settledPyramidSnapshot(rows), rows);
+        const ManifoldSnapshot snap = settledPyramidSnapshot(rows);
+        std::vector<ManifoldLcp> family = manifoldLcpsOf(snap, rows);
         for (const ManifoldLcp& m : family) {
             if (quick && m.friction) continue;
             if (!filter.empty() && m.name.find(filter) == std::string::npos) continue;
-            const Solve fast = runUnison(m, true, budgetMs);
-            const Solve lemke = runUnison(m, false, budgetMs);
+            const Solve fast = runUnison(m, snap, true, budgetMs);
+            const Solve lemke = runUnison(m, snap, false, budgetMs);
             const bool siconosRuns = m.lcp.n <= kSiconosMaxN;
             const Solve siconos = siconosRuns ? runSiconos(m, budgetMs) : Solve{"skipped(n)", 0, 0.0, 0.0, false, ""};
             const int d = m.data == ManifoldData::doubleData ? 0 : 1;
