@@ -71,6 +71,7 @@ inline StepInfo toStepInfo(const StepStats& s) {
     info.minimumWork = s.minimumWork;
     info.overrun = s.overrun;
     info.exactIslands = s.exactIslands;
+    info.activeSetIslands = s.activeSetIslands;
     info.approximateIslands = s.approximateIslands;
     info.failedIslands = s.failedIslands;
     info.unsolvedIslands = s.unsolvedIslands;

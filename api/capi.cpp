@@ -432,7 +432,7 @@ unisonError unisonGetStepInfo(unisonWorldId world, unisonStepInfo* outInfo) {
         *outInfo = {s.islands,        s.awakeIslands,       s.contacts,          s.pivots,
                     s.work,           s.budget,             s.minimumWork,       s.overrun,
                     s.exactIslands,   s.approximateIslands, s.failedIslands,     s.unsolvedIslands,
-                    s.maxResidual,    s.maxApproximateResidual, s.maxPenetration};
+                    s.maxResidual,    s.maxApproximateResidual, s.maxPenetration, s.activeSetIslands};
         return UNISON_OK;
     });
 }

@@ -16,7 +16,7 @@ namespace unison::cli {
 /// Step statistics summed (counts) or maximised (residuals, work) over a run.
 struct RunStats {
     int totalPivots = 0, maxIslandPivots = 0, discardedGuesses = 0, basisChange = 0, failed = 0, unsolved = 0;
-    long approximateIslands = 0, exactIslands = 0;
+    long approximateIslands = 0, exactIslands = 0, activeSetIslands = 0;
     double maxResidual = 0.0, maxPenetration = 0.0, maxApproximateResidual = 0.0;
     std::uint64_t maxStepWork = 0;
     double worstStepMs = 0.0, totalMs = 0.0;
@@ -40,6 +40,7 @@ struct RunStats {
         unsolved += st.unsolvedIslands;
         approximateIslands += st.approximateIslands;
         exactIslands += st.exactIslands;
+        activeSetIslands += st.activeSetIslands;
         maxResidual = std::max(maxResidual, st.maxResidual);
         maxPenetration = std::max(maxPenetration, st.maxPenetration);
         maxApproximateResidual = std::max(maxApproximateResidual, st.maxApproximateResidual);
@@ -54,6 +55,7 @@ struct RunStats {
                 {"contacts", last.contacts}, {"islands", last.islands}, {"worst_step_ms", worstStepMs},
                 {"mean_step_ms", steps > 0 ? totalMs / steps : 0.0}, {"max_step_work", maxStepWork},
                 {"approximate_islands", approximateIslands}, {"exact_islands", exactIslands},
+                {"active_set_islands", activeSetIslands},
                 {"max_approximate_residual", maxApproximateResidual}};
     }
 };

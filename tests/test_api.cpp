@@ -552,4 +552,27 @@ TEST_CASE("recordings: record, verify, hashes, and bad bytes") {
     CHECK(recordMatch(scene, R"({"inputs": [{"tick": 1, "type": "nope"}]})", 10, 5, &error).empty());
 }
 
+TEST_CASE("a big resting pile reports its active-set answers through both APIs") {
+    // Box2D v3's large-pyramid layout through the public API: 1 m boxes touching side by side and stacked with no
+    // gap, base 20 (210 boxes, about 1100 contacts in one island from the first step, no warm start).
+    World2D w;
+    BodyDef2D ground;
+    ground.type = BodyType::staticBody;
+    REQUIRE(!w.createBody(ground, {ShapeDef2D::box(40.0, 1.0, {0.0, -1.0})}).isNull());
+    for (int row = 0; row < 20; ++row) {
+        for (int i = 0; i < 20 - row; ++i) {
+            BodyDef2D d;
+            d.position = {-9.5 + 0.5 * row + i, 0.5 + row};
+            REQUIRE(!w.createBody(d, {ShapeDef2D::box(0.5, 0.5)}).isNull());
+        }
+    }
+    w.step();
+    const StepInfo info = w.stepInfo();
+    CHECK(info.contacts >= 512);
+    CHECK(info.exactIslands == 1);
+    CHECK(info.activeSetIslands == 1);
+    CHECK(info.pivots == 0);
+    CHECK(info.failedIslands == 0);
+}
+
 }  // TEST_SUITE

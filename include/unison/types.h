@@ -54,6 +54,7 @@ struct StepInfo {
     std::uint64_t minimumWork = 0;
     std::uint64_t overrun = 0;      ///< work of exact attempts beyond their share (the solver checks between pivots)
     int exactIslands = 0;           ///< islands with contacts whose LCP was solved exactly
+    int activeSetIslands = 0;       ///< of which answered by the 2D active-set path (docs/solver.md), not Lemke
     int approximateIslands = 0;     ///< islands the budget left to the bounded approximation
     int failedIslands = 0;          ///< friction solves that fell back to the frictionless problem
     int unsolvedIslands = 0;        ///< islands that got no impulse at all

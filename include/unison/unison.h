@@ -124,6 +124,7 @@ typedef struct unisonStepInfo {
     double maxResidual;            /**< largest complementarity residual of an exact answer applied */
     double maxApproximateResidual; /**< largest residual of an approximate island's answer */
     double maxPenetration;         /**< deepest overlap among touching contacts (m) */
+    int activeSetIslands;          /**< of exactIslands, answered by the 2D active-set path (not Lemke) */
 } unisonStepInfo;
 
 /** Work units of `ms` milliseconds on the reference machine (a fixed constant, never measured at run time). */
