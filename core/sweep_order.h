@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -63,6 +65,46 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
     for (const SweepEntry& e : out) cache->order.push_back(e.index);
     for (int i = 0; i < n; ++i)
         if (!valid(i)) cache->order.push_back(i);
+}
+
+/// Runs fn(chunk) for every chunk in [0, chunks), in any order and possibly on several threads (each chunk writes
+/// only its own outputs). A broadphase takes one to sweep ranges of its sorted order in parallel.
+using ChunkRunner = std::function<void(int chunks, const std::function<void(int chunk)>& fn)>;
+
+/// The sweep over sorted boxes: for every position i of `order`, the boxes j > i that start before box i ends in x
+/// (order[j].lowerX <= upperX(order[i].index)) and pass keep(a, b) (the other axes, flags), as (min, max) pairs,
+/// sorted by (a, b). With a runner, ranges of i are swept as separate chunks and their pairs joined: the sorted
+/// result is the same whatever the chunks and their order.
+template <class UpperX, class Keep>
+std::vector<std::pair<int, int>> sweepPairs(const std::vector<SweepEntry>& order, UpperX upperX, Keep keep,
+                                            const ChunkRunner* runner) {
+    const int m = int(order.size());
+    auto sweep = [&](int begin, int end, std::vector<std::pair<int, int>>& out) {
+        for (int i = begin; i < end; ++i) {
+            const int a = order[std::size_t(i)].index;
+            const double ax = upperX(a);
+            for (int j = i + 1; j < m && order[std::size_t(j)].lowerX <= ax; ++j) {
+                const int b = order[std::size_t(j)].index;
+                if (keep(a, b)) out.emplace_back(std::min(a, b), std::max(a, b));
+            }
+        }
+    };
+    std::vector<std::pair<int, int>> pairs;
+    const int chunks = runner ? std::min(64, m / 256) : 0;
+    if (chunks < 2) {
+        sweep(0, m, pairs);
+    } else {
+        std::vector<std::vector<std::pair<int, int>>> parts(static_cast<std::size_t>(chunks));
+        (*runner)(chunks, [&](int c) {
+            sweep(int(std::int64_t(m) * c / chunks), int(std::int64_t(m) * (c + 1) / chunks), parts[std::size_t(c)]);
+        });
+        std::size_t total = 0;
+        for (const auto& p : parts) total += p.size();
+        pairs.reserve(total);
+        for (const auto& p : parts) pairs.insert(pairs.end(), p.begin(), p.end());
+    }
+    std::sort(pairs.begin(), pairs.end());
+    return pairs;
 }
 
 }  // namespace unison

@@ -36,7 +36,8 @@ void WorldBase<Derived, D, Def, Hot, Cold, ContactPoint>::step(std::uint64_t bud
     mContactPoints.clear();
     for (const StepContact<D>& c : mStep.contacts()) mContactPoints.push_back(self().contactPoint(c));
     ++mStepCount;
-    mFault = self().findFault();
+    // The scan over every body (and the message) only when a body the step moved left the supported ranges.
+    mFault = mStep.motionFault() ? self().findFault() : std::string();
 }
 
 template <class Derived, class D, class Def, class Hot, class Cold, class ContactPoint>

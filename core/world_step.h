@@ -140,6 +140,9 @@ public:
     const std::vector<TouchEvent>& beginEvents() const { return mBegin; }
     const std::vector<TouchEvent>& endEvents() const { return mEnd; }
     const StepStats& stats() const { return mStats; }
+    /// Some body the last run() moved left the supported ranges (hooks.motionOk): only then need the world scan its
+    /// bodies for the fault message. Bodies a step does not move keep the state the API checked when it was set.
+    bool motionFault() const { return mMotionFault; }
     /// Takes over `other`'s thread pool and per-worker buffers (not state: a world restored from a snapshot keeps
     /// its threads).
     void takeScratch(WorldStep& other) {
@@ -253,6 +256,8 @@ private:
     std::unique_ptr<ThreadPool> mPool;    // the built-in pool (workerCount > 1 and no job system of the world's)
     std::vector<Worker> mWorkers;         // one per worker index
     SweepCache mSweep;                    // the broadphase's last sort order (speed only: not state)
+    std::vector<std::uint8_t> mIslandFault;  // per island: a body it moved left the supported ranges
+    bool mMotionFault = false;            // some body the step moved did (motionFault())
     std::vector<StepContact<D>> mContacts;
     std::vector<int> mHit;                // per contact: its warm-start cache entry, or -1
     std::vector<ContactKey> mNewEntry;    // per contact: its entry for the next step's cache (if mHasEntry)
@@ -394,7 +399,11 @@ void WorldStep<D>::findContacts(H& hooks) {
             inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
     });
-    const auto pairs = findPairs(boxes, inactive, &mSweep);
+    // The sweep over the sorted boxes in parallel chunks (the sorted pairs do not depend on them).
+    const ChunkRunner sweepRunner = [this](int chunks, const std::function<void(int)>& fn) {
+        forEach(chunks, 1, [&](int c, Worker&) { fn(c); });
+    };
+    const auto pairs = findPairs(boxes, inactive, &mSweep, &sweepRunner);
     // The narrowphase in parallel: each pair writes its points into its own slots; they are gathered in pair order.
     using Manifold = decltype(hooks.narrowphase(cold[0].shapes[0], xfs[0], cold[0].shapes[0], xfs[0], 0.0, mStats));
     constexpr int kSlots = int(std::tuple_size<std::decay_t<decltype(std::declval<Manifold>().points)>>::value);
@@ -641,6 +650,7 @@ void WorldStep<D>::finishIslands(H& hooks) {
     const double dt = 1.0 / def.hz;
     auto& hot = hooks.bodies().hotArray();
     auto& cold = hooks.bodies().coldArray();
+    mIslandFault.assign(std::size_t(mIslands.count()), 0);
     forEach(mIslands.count(), 64, [&](int isl, Worker&) {
         if (!mAwake[std::size_t(isl)]) return;
         const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
@@ -657,6 +667,7 @@ void WorldStep<D>::finishIslands(H& hooks) {
             const bool slow = D::dot(s.velocity, s.velocity) <= def.linearSleepTolerance * def.linearSleepTolerance &&
                               D::angWithin(s.angularVelocity, def.angularSleepTolerance);
             info.sleepTime = slow ? info.sleepTime + dt : 0.0;
+            if (!hooks.motionOk(s)) mIslandFault[std::size_t(isl)] = 1;
             minSleep = std::min(minSleep, info.sleepTime);
         }
         if (def.enableSleep && minSleep >= def.timeToSleep) {
@@ -678,9 +689,13 @@ void WorldStep<D>::mergeResults(H& hooks) {
     auto& store = hooks.bodies();
     auto& hot = store.hotArray();
     const auto& cold = store.coldArray();
+    mMotionFault = false;
+    for (std::uint8_t f : mIslandFault) mMotionFault = mMotionFault || f != 0;
     for (int d = 0; d < store.size(); ++d)  // kinematic bodies move on their own
-        if (isKinematic(cold[std::size_t(d)]))
+        if (isKinematic(cold[std::size_t(d)])) {
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
+            mMotionFault = mMotionFault || !hooks.motionOk(hot[std::size_t(d)]);
+        }
     for (Job& job : mJobs) {  // island order
         world_step_detail::accumulate(mStats, job.stats);
         mStats.work += job.work;

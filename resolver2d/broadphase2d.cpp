@@ -17,7 +17,7 @@ bool validBox(const Aabb2& b) { return b.lower.x <= b.upper.x && b.lower.y <= b.
 }  // namespace
 
 std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, const std::vector<std::uint8_t>& isStatic,
-                                           SweepCache* cache) {
+                                           SweepCache* cache, const ChunkRunner* runner) {
     if (!isStatic.empty() && isStatic.size() != boxes.size())
         throw std::invalid_argument("findPairs: isStatic must be empty or have one flag per box");
     const int n = static_cast<int>(boxes.size());
@@ -29,22 +29,15 @@ std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, cons
         n, [&](int i) { return validBox(boxes[std::size_t(i)]); }, [&](int i) { return boxes[std::size_t(i)].lower.x; },
         order, cache);
 
-    std::vector<std::pair<int, int>> pairs;
-    const int m = static_cast<int>(order.size());
-    for (int i = 0; i < m; ++i) {
-        const int a = order[i].index;
-        const Aabb2& ba = boxes[a];
-        const bool staticA = staticBox(a);
-        for (int j = i + 1; j < m && order[j].lowerX <= ba.upper.x; ++j) {
-            const int b = order[j].index;
-            if (staticA && staticBox(b)) continue;
-            const Aabb2& bb = boxes[b];
-            if (ba.lower.y <= bb.upper.y && bb.lower.y <= ba.upper.y)
-                pairs.push_back(a < b ? std::make_pair(a, b) : std::make_pair(b, a));
-        }
-    }
-    std::sort(pairs.begin(), pairs.end());
-    return pairs;
+    return sweepPairs(
+        order, [&](int a) { return boxes[std::size_t(a)].upper.x; },
+        [&](int a, int b) {
+            if (staticBox(a) && staticBox(b)) return false;
+            const Aabb2& ba = boxes[std::size_t(a)];
+            const Aabb2& bb = boxes[std::size_t(b)];
+            return ba.lower.y <= bb.upper.y && bb.lower.y <= ba.upper.y;
+        },
+        runner);
 }
 
 }  // namespace unison

@@ -21,7 +21,8 @@ namespace unison {
 /// All pairs (a, b), a < b, of overlapping boxes except static–static ones, ascending by (a, b).
 /// isStatic[i] != 0 marks box i static; isStatic must be empty (all dynamic) or as long as boxes
 /// (std::invalid_argument otherwise). Cost O(n log n + s + k log k), s = pairs whose x-intervals overlap.
+/// `runner` (optional) sweeps ranges of the sorted boxes in parallel (sweepPairs); the answer does not change.
 std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, const std::vector<std::uint8_t>& isStatic,
-                                           SweepCache* cache = nullptr);
+                                           SweepCache* cache = nullptr, const ChunkRunner* runner = nullptr);
 
 }  // namespace unison

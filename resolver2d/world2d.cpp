@@ -95,6 +95,9 @@ struct World2::Hooks {
         s.position = s.center - rotate(s.rotation, world.mBodies.cold(d).localCenter);
     }
 
+    /// The state a step may leave is within the supported ranges (checkMotion2; the message comes from findFault).
+    bool motionOk(const BodyState2& s) const { return checkMotion2(s).empty(); }
+
     Transform2 transform(const BodyState2& s) const { return {s.position, s.rotation}; }
 
     Manifold2 narrowphase(const Shape2& a, const Transform2& xfA, const Shape2& b, const Transform2& xfB,

@@ -9,7 +9,7 @@
 namespace unison {
 
 std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
-                                            SweepCache* cache) {
+                                            SweepCache* cache, const ChunkRunner* runner) {
     if (!inactive.empty() && inactive.size() != boxes.size())
         throw std::invalid_argument("findPairs3: inactive must be empty or have one flag per box");
     const int n = int(boxes.size());
@@ -20,21 +20,16 @@ std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, con
     };
     sweepSort(n, valid, [&](int i) { return boxes[std::size_t(i)].lower.x(); }, order, cache);
     auto isInactive = [&](int i) { return !inactive.empty() && inactive[std::size_t(i)] != 0; };
-    std::vector<std::pair<int, int>> pairs;
-    for (std::size_t i = 0; i < order.size(); ++i) {
-        const int a = order[i].index;
-        const Aabb3& ba = boxes[std::size_t(a)];
-        for (std::size_t j = i + 1; j < order.size() && order[j].lowerX <= ba.upper.x(); ++j) {
-            const int b = order[j].index;
-            if (isInactive(a) && isInactive(b)) continue;
+    return sweepPairs(
+        order, [&](int a) { return boxes[std::size_t(a)].upper.x(); },
+        [&](int a, int b) {
+            if (isInactive(a) && isInactive(b)) return false;
+            const Aabb3& ba = boxes[std::size_t(a)];
             const Aabb3& bb = boxes[std::size_t(b)];
-            if (ba.lower.y() <= bb.upper.y() && bb.lower.y() <= ba.upper.y() && ba.lower.z() <= bb.upper.z() &&
-                bb.lower.z() <= ba.upper.z())
-                pairs.emplace_back(std::min(a, b), std::max(a, b));
-        }
-    }
-    std::sort(pairs.begin(), pairs.end());
-    return pairs;
+            return ba.lower.y() <= bb.upper.y() && bb.lower.y() <= ba.upper.y() && ba.lower.z() <= bb.upper.z() &&
+                   bb.lower.z() <= ba.upper.z();
+        },
+        runner);
 }
 
 }  // namespace unison

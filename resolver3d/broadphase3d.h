@@ -17,12 +17,13 @@ namespace unison {
 
 /// All pairs (a, b), a < b, of overlapping boxes except inactive–inactive ones, ascending by (a, b). inactive must
 /// be empty (all active) or as long as boxes (std::invalid_argument otherwise).
+/// `runner` (optional) sweeps ranges of the sorted boxes in parallel (sweepPairs); the answer does not change.
 std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
-                                            SweepCache* cache = nullptr);
+                                            SweepCache* cache = nullptr, const ChunkRunner* runner = nullptr);
 /// The same under the 2D name, for the dimension-generic step (core/world_step.h).
 inline std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb3>& boxes, const std::vector<std::uint8_t>& inactive,
-                                                  SweepCache* cache = nullptr) {
-    return findPairs3(boxes, inactive, cache);
+                                                  SweepCache* cache = nullptr, const ChunkRunner* runner = nullptr) {
+    return findPairs3(boxes, inactive, cache, runner);
 }
 
 }  // namespace unison

@@ -101,6 +101,9 @@ struct World3::Hooks {
         s.position = D3::sub(s.center, mul(toMatrix(s.rotation), world.mBodies.cold(d).localCenter));
     }
 
+    /// The state a step may leave is within the supported ranges (checkMotion3; the message comes from findFault).
+    bool motionOk(const BodyState3& s) const { return checkMotion3(s).empty(); }
+
     Transform3 transform(const BodyState3& s) const { return {s.position, toMatrix(s.rotation)}; }
 
     Manifold3 narrowphase(const Shape3& a, const Transform3& xfA, const Shape3& b, const Transform3& xfB,
