@@ -204,6 +204,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<int> freeUnknown;
         std::vector<Eigen::Triplet<double>> triplets;
         std::vector<double> dx(std::size_t(2 * nc)), xt(std::size_t(2 * nc)), ut(std::size_t(2 * nc));
+        std::vector<double> xp(std::size_t(2 * nc)), up(std::size_t(2 * nc)), rhs;  // projected trial; right-hand side
         Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
         int iterations = 0;
         bool solved = false;
@@ -287,7 +288,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 }
             }
             // Known parts of the step: separated contacts let go, slipping ones keep p_t = +-mu p_n.
-            std::vector<double> rhs(std::size_t(ndof + int(freeUnknown.size())), 0.0);
+            rhs.assign(std::size_t(ndof + int(freeUnknown.size())), 0.0);
             auto addMomentum = [&](int c, int r, double p) {  // rhs body rows += J_r^T p
                 if (p == 0.0) return;
                 const detail::JacobianRow<D>& row = rowAt(c, r);
@@ -310,10 +311,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     addMomentum(c, 1, sgn * mu * pn - pt);
                 }
             }
-            // The body-space system: [I, -J~^T; J M^-1, eps I] [y; dp] = [known momentum; -u]. The proximal term
-            // follows the residual: a step cannot move an impulse much further than u / eps along the directions the
-            // redundant rows leave singular.
-
+            // The body-space system: [I, -J~^T; J M^-1, eps G] [y; dp] = [known momentum; -u']. The proximal term
+            // keeps a step within about u / eps along the directions the redundant rows leave singular.
             triplets.clear();
             const int nf = int(freeUnknown.size());
             for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
@@ -388,7 +387,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             }
             {
                 // The step's projection onto p_n >= 0, |p_t| <= mu p_n: degenerate contacts end a little outside.
-                std::vector<double> xp = xt, up(u.size());
+                xp = xt;
                 project(xp);
                 velocities(xp, up);
                 work += rowWork;

@@ -174,8 +174,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // 2 in 3D). A settled island takes about n/2, but a tall structure that stands by friction alone takes 2-5n
     // while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not a stalled one:
     // the frictionless answer lets the structure slide, the next step starts farther from rest, and the island
-    // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
-    // approximated instead); only a failure of another kind tries the frictionless LCP.
+    // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve
+    // that ran out of work ends the attempt (the island is approximated instead); only a failure of another kind
+    // tries the frictionless LCP.
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
@@ -191,7 +192,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         bool done = false;
         // The active-set path (2D) answers islands that start cold or that it answered last step; an island that
         // Lemke answered goes on with Lemke's warm start (its basis is a vertex, usually right as it stands).
-        if (D::kDim == 2 && nc >= kActiveSetMinContacts && (!options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc)) {
+        const bool activeSetFirst = !options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc;
+        if (D::kDim == 2 && nc >= kActiveSetMinContacts && activeSetFirst) {
             if (options.lcp.warmBasis) {
                 ResolverOptions guessOnly = options;
                 guessOnly.guessOnly = true;
@@ -200,14 +202,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 done = res.status == LcpStatus::solved;
             }
             if (!done) {
-                std::vector<double> warmImpulses(std::size_t(nc) * std::size_t(1 + D::kDim));
-                for (int ci = 0; ci < nc; ++ci) {
-                    warmImpulses[std::size_t(ci) * (1 + D::kDim)] = setup.impulses[std::size_t(ci)].normal;
-                    for (int d = 0; d < D::kDim; ++d)
-                        warmImpulses[std::size_t(ci) * (1 + D::kDim) + 1 + std::size_t(d)] = setup.impulses[std::size_t(ci)].tangent[d];
+                std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
+                warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+                for (const PgsWarm<D>& w : setup.impulses) {
+                    warmImpulses.push_back(w.normal);
+                    for (int d = 0; d < D::kDim; ++d) warmImpulses.push_back(w.tangent[d]);
                 }
-                ActiveSetOptions as;
-                Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, as);
+                Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, ActiveSetOptions{});
                 charge(fast);
                 if (usable(fast)) {
                     res = std::move(fast);
