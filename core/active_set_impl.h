@@ -37,9 +37,100 @@
 #pragma once
 
 #include <Eigen/SparseCore>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 
 namespace unison {
+
+namespace detail {
+
+// Storage of gmresRight, kept across the steps of one active-set solve.
+struct GmresWorkspace {
+    std::vector<Eigen::VectorXd> basis, preconditioned;  // Arnoldi vectors V_j and P^-1 V_j
+    std::vector<double> h, cs, sn, g, y;                // Hessenberg columns (rotated), Givens rotations, residual
+};
+
+inline double plainDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    double s = 0.0;
+    for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+}
+
+// Right-preconditioned restarted GMRES (Saad & Schultz): x with A x = b, starting from P^-1 b, Arnoldi with
+// modified Gram-Schmidt and Givens rotations, at most kGmresIterations preconditioned products in all, until the true
+// residual ||b - A x|| <= kGmresTolerance ||b||. Every reduction is a plain loop in index order (square roots only),
+// so the answer is the same bits everywhere. Adds to `work` the products it made (`applyWork` each).
+constexpr int kGmresIterations = 60;
+constexpr double kGmresTolerance = 1e-10;
+template <class Preconditioner>
+bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, const Eigen::VectorXd& b,
+                Eigen::VectorXd& x, GmresWorkspace& ws, std::uint64_t applyWork, std::uint64_t& work) {
+    const Eigen::Index n = b.size();
+    const double tol = kGmresTolerance * std::sqrt(plainDot(b, b));
+    const std::uint64_t vectorWork = std::uint64_t(n);
+    x = P.solve(b);
+    work += applyWork;
+    int used = 0;
+    const int m = kGmresIterations;
+    ws.basis.resize(std::size_t(m + 1));
+    ws.preconditioned.resize(std::size_t(m));
+    ws.h.assign(std::size_t((m + 1) * m), 0.0);
+    ws.cs.assign(std::size_t(m), 0.0);
+    ws.sn.assign(std::size_t(m), 0.0);
+    ws.g.assign(std::size_t(m + 1), 0.0);
+    ws.y.assign(std::size_t(m), 0.0);
+    auto H = [&](int i, int j) -> double& { return ws.h[std::size_t(j * (m + 1) + i)]; };
+    for (;;) {
+        Eigen::VectorXd r = b - A * x;
+        work += applyWork;
+        const double beta = std::sqrt(plainDot(r, r));
+        if (!(beta > tol)) return beta <= tol;  // also false for a NaN residual
+        if (used >= m) return false;
+        ws.basis[0] = r / beta;
+        std::fill(ws.g.begin(), ws.g.end(), 0.0);
+        ws.g[0] = beta;
+        int k = 0;
+        for (int j = 0; used < m; ++j) {
+            ++used;
+            k = j + 1;
+            ws.preconditioned[std::size_t(j)] = P.solve(ws.basis[std::size_t(j)]);
+            Eigen::VectorXd w = A * ws.preconditioned[std::size_t(j)];
+            work += applyWork + std::uint64_t(2 * (j + 2)) * vectorWork;
+            for (int i = 0; i <= j; ++i) {
+                H(i, j) = plainDot(w, ws.basis[std::size_t(i)]);
+                w -= H(i, j) * ws.basis[std::size_t(i)];
+            }
+            const double wn = std::sqrt(plainDot(w, w));
+            for (int i = 0; i < j; ++i) {
+                const double a = H(i, j), c = H(i + 1, j);
+                H(i, j) = ws.cs[std::size_t(i)] * a + ws.sn[std::size_t(i)] * c;
+                H(i + 1, j) = -ws.sn[std::size_t(i)] * a + ws.cs[std::size_t(i)] * c;
+            }
+            const double a = H(j, j);
+            const double rho = std::sqrt(a * a + wn * wn);
+            if (!(rho > 0.0)) {  // a breakdown with H(j, j) = 0: A is singular on the Krylov space
+                k = j;
+                break;
+            }
+            ws.cs[std::size_t(j)] = a / rho;
+            ws.sn[std::size_t(j)] = wn / rho;
+            H(j, j) = rho;
+            ws.g[std::size_t(j + 1)] = -ws.sn[std::size_t(j)] * ws.g[std::size_t(j)];
+            ws.g[std::size_t(j)] = ws.cs[std::size_t(j)] * ws.g[std::size_t(j)];
+            if (std::fabs(ws.g[std::size_t(j + 1)]) <= tol || !(wn > 0.0)) break;
+            ws.basis[std::size_t(j + 1)] = w / wn;
+        }
+        for (int i = k - 1; i >= 0; --i) {
+            double v = ws.g[std::size_t(i)];
+            for (int l = i + 1; l < k; ++l) v -= H(i, l) * ws.y[std::size_t(l)];
+            ws.y[std::size_t(i)] = v / H(i, i);
+        }
+        for (int i = 0; i < k; ++i) x += ws.y[std::size_t(i)] * ws.preconditioned[std::size_t(i)];
+        work += std::uint64_t(k) * vectorWork;
+    }
+}
+
+}  // namespace detail
 
 template <class D>
 Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
@@ -206,6 +297,12 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<double> dx(std::size_t(2 * nc)), xt(std::size_t(2 * nc)), ut(std::size_t(2 * nc));
         std::vector<double> xp(std::size_t(2 * nc)), up(std::size_t(2 * nc)), rhs;  // projected trial; right-hand side
         Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+        std::vector<int> analysedFree;  // the free unknowns ldlt's ordering was computed for
+        std::vector<Eigen::Triplet<double>> slipTriplets;
+        std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
+        detail::GmresWorkspace gmres;
+        int luSteps = 0;
         int iterations = 0;
         bool solved = false;
         // Proximal term of phase 1, relative to each row's diagonal: 1e-4 at first, 10x smaller each time the states
@@ -311,11 +408,28 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     addMomentum(c, 1, sgn * mu * pn - pt);
                 }
             }
-            // The body-space system: [I, -J~^T; J M^-1, eps G] [y; dp] = [known momentum; -u']. The proximal term
-            // keeps a step within about u / eps along the directions the redundant rows leave singular.
-            triplets.clear();
             const int nf = int(freeUnknown.size());
-            for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
+            const int n = ndof + nf;
+            // The body-space system. With v = M^-1 y (the bodies' velocity changes) and q = -dp it reads
+            //   [M, J~^T; J, -eps G] [v; q] = [known momentum; -u'],
+            // whose symmetric part S = [M, J^T; J, -eps G] (J~ without the slipping contacts' mu t columns) is
+            // quasi-definite: it has an LDL^T factorisation in any symmetric order (AMD here), with about a tenth of
+            // the fill of a pivoting LU of the whole system. The step is S^-1-preconditioned GMRES on the whole
+            // system (one S solve when nothing slips); the pivoting LU of [I, -J~^T; J M^-1, eps G] takes over when
+            // it does not converge. A component whose inverse mass or inertia is zero does not move (v = 0).
+            triplets.clear();
+            slipTriplets.clear();
+            for (int k = 0; k < nb; ++k) {
+                const int d = dof[std::size_t(k)];
+                if (d < 0) continue;
+                const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+                for (int a = 0; a < 3; ++a) {
+                    const bool moves = inv[a] > 0.0;
+                    locked[std::size_t(d + a)] = moves ? 0 : 1;
+                    triplets.emplace_back(d + a, d + a, moves ? 1.0 / inv[a] : 1.0);
+                }
+            }
             for (int f = 0; f < nf; ++f) {
                 const int unknown = freeUnknown[std::size_t(f)];
                 const int c = unknown / 2, r = unknown % 2;
@@ -327,31 +441,88 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 const detail::JacobianRow<D>& row = rowAt(c, r);
                 const detail::JacobianRow<D>& trow = rowAt(c, 1);
                 for (int s = 0; s < 2; ++s) {
-                    const int k = row.body[s];
-                    const int d = dof[std::size_t(k)];
+                    const int d = dof[std::size_t(row.body[s])];
                     if (d < 0) continue;
-                    const ResolverBody<D>& B = ioBodies[std::size_t(k)];
-                    // Column: -(row + slip * tangent row) on the body's momentum rows (same bodies, same slot).
-                    triplets.emplace_back(d, col, -(row.lin[s].x + slip * trow.lin[s].x));
-                    triplets.emplace_back(d + 1, col, -(row.lin[s].y + slip * trow.lin[s].y));
-                    triplets.emplace_back(d + 2, col, -(row.ang[s] + slip * trow.ang[s]));
-                    // Row: J_r M^-1.
-                    triplets.emplace_back(col, d, row.lin[s].x * B.invMass);
-                    triplets.emplace_back(col, d + 1, row.lin[s].y * B.invMass);
-                    triplets.emplace_back(col, d + 2, row.ang[s] * B.invInertia);
+                    const double j[3] = {row.lin[s].x, row.lin[s].y, row.ang[s]};
+                    const double t[3] = {trow.lin[s].x, trow.lin[s].y, trow.ang[s]};
+                    for (int a = 0; a < 3; ++a) {
+                        if (locked[std::size_t(d + a)]) continue;
+                        triplets.emplace_back(col, d + a, j[a]);
+                        triplets.emplace_back(d + a, col, j[a]);
+                        if (slip != 0.0) slipTriplets.emplace_back(d + a, col, slip * t[a]);
+                    }
                 }
-                triplets.emplace_back(col, col, epsRel * diag[std::size_t(unknown)]);
+                triplets.emplace_back(col, col, -epsRel * diag[std::size_t(unknown)]);
                 rhs[std::size_t(col)] = -ue[std::size_t(unknown)];
             }
-            const int n = ndof + nf;
-            Eigen::SparseMatrix<double> K(n, n);
-            K.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
-            lu.analyzePattern(K);
-            lu.factorize(K);
-            if (lu.info() != Eigen::Success) break;
-            Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
-            const Eigen::VectorXd sol = lu.solve(rv);
-            work += std::uint64_t(K.nonZeros()) + 2 * std::uint64_t(lu.nnzL() + lu.nnzU()) + rowWork;
+            Eigen::VectorXd sol;
+            bool stepFound = false;
+            {
+                Eigen::SparseMatrix<double> S(n, n);
+                S.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
+                if (freeUnknown != analysedFree) {
+                    ldlt.analyzePattern(S);  // a pure function of the pattern, which the free unknowns determine
+                    analysedFree = freeUnknown;
+                }
+                ldlt.factorize(S);
+                if (ldlt.info() == Eigen::Success) {
+                    const std::uint64_t nnzL = std::uint64_t(ldlt.matrixL().nestedExpression().nonZeros());
+                    work += std::uint64_t(S.nonZeros()) + 4 * nnzL;
+                    Eigen::SparseMatrix<double> whole;
+                    const Eigen::SparseMatrix<double>* system = &S;
+                    if (!slipTriplets.empty()) {
+                        triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
+                        whole.resize(n, n);
+                        whole.setFromTriplets(triplets.begin(), triplets.end());
+                        system = &whole;
+                    }
+                    Eigen::VectorXd rv(n);
+                    for (int i = 0; i < n; ++i) rv[i] = i < ndof && locked[std::size_t(i)] ? 0.0 : rhs[std::size_t(i)];
+                    stepFound = detail::gmresRight(*system, ldlt, rv, sol, gmres,
+                                                   std::uint64_t(system->nonZeros()) + 2 * nnzL, work);
+                    for (int i = ndof; i < n && stepFound; ++i) sol[i] = -sol[i];
+                }
+            }
+            if (!stepFound) {
+                // The pivoting LU of [I, -J~^T; J M^-1, eps G] [y; dp] = [known momentum; -u'].
+                triplets.clear();
+                for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
+                for (int f = 0; f < nf; ++f) {
+                    const int unknown = freeUnknown[std::size_t(f)];
+                    const int c = unknown / 2, r = unknown % 2;
+                    const int col = ndof + f;
+                    const std::uint8_t st = state[std::size_t(c)];
+                    const double slip = r == 0 && (st == kSlipPlus || st == kSlipMinus)
+                                            ? (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)]
+                                            : 0.0;
+                    const detail::JacobianRow<D>& row = rowAt(c, r);
+                    const detail::JacobianRow<D>& trow = rowAt(c, 1);
+                    for (int s = 0; s < 2; ++s) {
+                        const int k = row.body[s];
+                        const int d = dof[std::size_t(k)];
+                        if (d < 0) continue;
+                        const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                        // Column: -(row + slip * tangent row) on the body's momentum rows; row: J_r M^-1.
+                        triplets.emplace_back(d, col, -(row.lin[s].x + slip * trow.lin[s].x));
+                        triplets.emplace_back(d + 1, col, -(row.lin[s].y + slip * trow.lin[s].y));
+                        triplets.emplace_back(d + 2, col, -(row.ang[s] + slip * trow.ang[s]));
+                        triplets.emplace_back(col, d, row.lin[s].x * B.invMass);
+                        triplets.emplace_back(col, d + 1, row.lin[s].y * B.invMass);
+                        triplets.emplace_back(col, d + 2, row.ang[s] * B.invInertia);
+                    }
+                    triplets.emplace_back(col, col, epsRel * diag[std::size_t(unknown)]);
+                }
+                Eigen::SparseMatrix<double> K(n, n);
+                K.setFromTriplets(triplets.begin(), triplets.end());
+                lu.analyzePattern(K);
+                lu.factorize(K);
+                if (lu.info() != Eigen::Success) break;
+                Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
+                sol = lu.solve(rv);
+                work += std::uint64_t(K.nonZeros()) + 2 * std::uint64_t(lu.nnzL() + lu.nnzU());
+                ++luSteps;
+            }
+            work += rowWork;
             // The whole step.
             for (int c = 0; c < nc; ++c) {
                 const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];

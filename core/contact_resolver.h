@@ -73,9 +73,6 @@ struct ResolverOptions {
     /// the true problem by more than LcpOptions::residualTolerance and no continuation did better; such an answer
     /// is still an exact solution of an LCP within ~1e-7 of the given one.
     double acceptResidual = 0.0;
-    /// resolveWithFriction with a warm guess: stop (`pivot_limit`, bodies untouched) when the guess is refused,
-    /// instead of assembling the whole LCP for Lemke.
-    bool guessOnly = false;
     LcpOptions lcp;
 };
 

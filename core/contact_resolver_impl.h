@@ -655,12 +655,6 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
             r = solver.checkGuess(std::move(part), options.lcp);
         }
     }
-    if (r.status != LcpStatus::solved && options.guessOnly) {
-        out.status = LcpStatus::pivot_limit;
-        out.work = r.work;
-        out.message = "the guessed basis was refused";
-        return out;
-    }
     if (r.status != LcpStatus::solved) {
         SparseLcp lcp = detail::writeFrictionRows<D, false>(sys, coupling, nullptr);
         lcp.b = std::move(sys.b);
