@@ -37,8 +37,9 @@
 #pragma once
 
 #include <Eigen/SparseCore>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+
+#include "symmetric_pattern_lu.h"
 
 namespace unison {
 
@@ -58,18 +59,26 @@ inline double plainDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 // Right-preconditioned restarted GMRES (Saad & Schultz): x with A x = b, starting from P^-1 b, Arnoldi with
 // modified Gram-Schmidt and Givens rotations, at most kGmresIterations preconditioned products in all, until the true
-// residual ||b - A x|| <= kGmresTolerance ||b||. Every reduction is a plain loop in index order (square roots only),
-// so the answer is the same bits everywhere. Adds to `work` the products it made (`applyWork` each).
+// residual is a backward error of kGmresTolerance: ||b - A x|| <= tol (||A||_inf ||x0|| + ||b||), x0 = P^-1 b (the
+// proximal term leaves A ill-conditioned along the redundant rows, so a residual relative to ||b|| alone can be
+// out of reach of any solve in doubles). Every reduction is a plain loop in index order (square roots only), so the
+// answer is the same bits everywhere. Adds to `work` the products it made (`applyWork` each).
 constexpr int kGmresIterations = 60;
-constexpr double kGmresTolerance = 1e-10;
+constexpr double kGmresTolerance = 1e-12;
 template <class Preconditioner>
 bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, const Eigen::VectorXd& b,
                 Eigen::VectorXd& x, GmresWorkspace& ws, std::uint64_t applyWork, std::uint64_t& work) {
     const Eigen::Index n = b.size();
-    const double tol = kGmresTolerance * std::sqrt(plainDot(b, b));
     const std::uint64_t vectorWork = std::uint64_t(n);
     x = P.solve(b);
     work += applyWork;
+    std::vector<double> rowSum(std::size_t(n), 0.0);
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) rowSum[std::size_t(it.row())] += std::fabs(it.value());
+    }
+    double normA = 0.0;
+    for (double v : rowSum) normA = std::max(normA, v);
+    const double tol = kGmresTolerance * (normA * std::sqrt(plainDot(x, x)) + std::sqrt(plainDot(b, b)));
     int used = 0;
     const int m = kGmresIterations;
     ws.basis.resize(std::size_t(m + 1));
@@ -297,8 +306,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<double> dx(std::size_t(2 * nc)), xt(std::size_t(2 * nc)), ut(std::size_t(2 * nc));
         std::vector<double> xp(std::size_t(2 * nc)), up(std::size_t(2 * nc)), rhs;  // projected trial; right-hand side
         Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
-        std::vector<int> analysedFree;  // the free unknowns ldlt's ordering was computed for
+        SymmetricPatternLu factor;
+        std::vector<int> analysedFree;  // the free unknowns factor's ordering was computed for
         std::vector<Eigen::Triplet<double>> slipTriplets;
         std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
@@ -458,28 +467,20 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             Eigen::VectorXd sol;
             bool stepFound = false;
             {
-                Eigen::SparseMatrix<double> S(n, n);
-                S.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
+                triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
+                Eigen::SparseMatrix<double> K(n, n);
+                K.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
                 if (freeUnknown != analysedFree) {
-                    ldlt.analyzePattern(S);  // a pure function of the pattern, which the free unknowns determine
+                    factor.analyzePattern(K);  // a pure function of the pattern, which the free unknowns determine
                     analysedFree = freeUnknown;
                 }
-                ldlt.factorize(S);
-                if (ldlt.info() == Eigen::Success) {
-                    const std::uint64_t nnzL = std::uint64_t(ldlt.matrixL().nestedExpression().nonZeros());
-                    work += std::uint64_t(S.nonZeros()) + 4 * nnzL;
-                    Eigen::SparseMatrix<double> whole;
-                    const Eigen::SparseMatrix<double>* system = &S;
-                    if (!slipTriplets.empty()) {
-                        triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
-                        whole.resize(n, n);
-                        whole.setFromTriplets(triplets.begin(), triplets.end());
-                        system = &whole;
-                    }
+                if (factor.factorize(K)) {
+                    const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
+                    work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
                     Eigen::VectorXd rv(n);
                     for (int i = 0; i < n; ++i) rv[i] = i < ndof && locked[std::size_t(i)] ? 0.0 : rhs[std::size_t(i)];
-                    stepFound = detail::gmresRight(*system, ldlt, rv, sol, gmres,
-                                                   std::uint64_t(system->nonZeros()) + 2 * nnzL, work);
+                    stepFound = detail::gmresRight(K, factor, rv, sol, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL,
+                                                   work);
                     for (int i = ndof; i < n && stepFound; ++i) sol[i] = -sol[i];
                 }
             }

@@ -28,6 +28,9 @@ std::vector<GoldenScene> goldenScenes() {
         // A 16-row pyramid through its landing: blocks of 250-300 unknowns, so the solver's large-block paths
         // (the LDL^T of the symmetric core, sparse LU, the Schur border of Lemke's block) are covered too.
         {"pyramid16", scenes::pyramidScene(16, 0.5, false), 120},
+        // Box2D v3's large pyramid at base 24 (1704 contacts in one island, every box touching from the start): the
+        // active-set path from its cold first step on (its symmetric-pattern LU, GMRES, the pivoting LU behind them).
+        {"large_pyramid24", scenes::largePyramidScene(24, false), 30},
         // The 3D world: boxes tilted so they land on edges and topple into one heap, spheres bouncing
         // with e = 0..1, and two sphere-tree bunnies sliding down the paper's ramps (the mesh path).
         {"box_heap3d", scenes::boxPile3Scene(12, true, false), 180},

@@ -24,9 +24,9 @@ struct GoldenScene {
 
 /// The golden scenes: a 10-row testbed pyramid (sleep off, so every tick solves its LCP warm-started), the
 /// restitution row, a pile of circles, boxes and polygons in a box, the 5-ball cradle, a 16-row pyramid's landing
-/// (the solver's large-block paths); in 3D a toppling box heap,
-/// bouncing spheres and two sphere-tree bunnies on the paper's ramps; and two of them again with a budget that
-/// leaves some islands to the approximation, stepped on 2 threads. Throws on a missing scene file.
+/// (the solver's large-block paths), Box2D v3's large pyramid at base 24 (the 2D active-set path); in 3D a toppling
+/// box heap, bouncing spheres and two sphere-tree bunnies on the paper's ramps; and two of them again with a budget
+/// that leaves some islands to the approximation, stepped on 2 threads. Throws on a missing scene file.
 std::vector<GoldenScene> goldenScenes();
 
 /// XXH3 of a run's tick hashes (each as little-endian u64): one value that covers every tick.

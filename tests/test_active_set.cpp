@@ -8,6 +8,9 @@
 #include "resolver3d.h"
 #include "scene_json.h"
 #include "world2d.h"
+#include "symmetric_pattern_lu.h"
+
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -220,6 +223,62 @@ TEST_CASE("Box2D v3's large pyramid (base 20) starts cold on the active-set path
     const Vec2 now = scene.world->state(top)->center;
     CHECK(std::fabs(now.x - start.x) < 0.01);
     CHECK(std::fabs(now.y - start.y) < 0.01);
+}
+
+
+TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a dense LU does, refuses what it cannot") {
+    // [M, J~^T; J, -eps G] as the active-set path builds it: 12 bodies in a chain, each pair joined by two rows, the
+    // momentum rows of every other row carrying 0.6 times a second row (a slipping contact's tangent column).
+    const int bodies = 12, nb = 3 * bodies, rows = 2 * (bodies - 1), n = nb + rows;
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, n);
+    auto put = [&](int i, int j, double v) {
+        entries.emplace_back(i, j, v);
+        dense(i, j) += v;
+    };
+    for (int k = 0; k < nb; ++k) put(k, k, k % 3 == 2 ? 0.2 : 1.5);
+    for (int r = 0; r < rows; ++r) {
+        const int a = r / 2, col = nb + r;
+        for (int s = 0; s < 2; ++s) {
+            for (int c = 0; c < 3; ++c) {
+                const int d = 3 * (a + s) + c;
+                const double j = (s == 0 ? -1.0 : 1.0) * (0.3 + 0.1 * c + 0.05 * r);
+                put(col, d, j);
+                put(d, col, j + (r % 2 == 0 ? 0.6 * (0.2 - 0.07 * c) : 0.0));
+            }
+        }
+        put(col, col, -1e-7);
+    }
+    Eigen::SparseMatrix<double> a(n, n);
+    a.setFromTriplets(entries.begin(), entries.end());
+    SymmetricPatternLu lu;
+    lu.analyzePattern(a);
+    REQUIRE(lu.factorize(a));
+    Eigen::VectorXd b(n);
+    for (int i = 0; i < n; ++i) b[i] = std::sin(0.7 * i) + (i >= nb ? 0.01 : 0.0);
+    const Eigen::VectorXd x = lu.solve(b);
+    const Eigen::VectorXd reference = dense.partialPivLu().solve(b);
+    const double backward = (a * x - b).norm() / (a.norm() * x.norm() + b.norm());
+    CHECK(backward < 1e-14);
+    CHECK((x - reference).norm() <= 1e-6 * reference.norm());  // the system is ill-conditioned by design (eps 1e-7)
+    // Bits repeat (a second factorisation of the same values, with the ordering reused).
+    REQUIRE(lu.factorize(a));
+    const Eigen::VectorXd again = lu.solve(b);
+    CHECK(std::memcmp(x.data(), again.data(), sizeof(double) * std::size_t(n)) == 0);
+    // A structurally zero pivot is refused, and so is a pattern that is not symmetric.
+    Eigen::SparseMatrix<double> singular(2, 2);
+    singular.insert(0, 1) = 1.0;
+    singular.insert(1, 0) = 1.0;
+    SymmetricPatternLu lu2;
+    lu2.analyzePattern(singular);
+    CHECK_FALSE(lu2.factorize(singular));
+    Eigen::SparseMatrix<double> lopsided(2, 2);
+    lopsided.insert(0, 0) = 1.0;
+    lopsided.insert(1, 1) = 1.0;
+    lopsided.insert(1, 0) = 1.0;
+    SymmetricPatternLu lu3;
+    lu3.analyzePattern(lopsided);
+    CHECK_FALSE(lu3.factorize(lopsided));
 }
 
 }  // TEST_SUITE
