@@ -55,6 +55,40 @@ public:
                 }
             }
         }
+        // Where factorize reads column k (rows <= k) and row k (columns < k) of P A P^T in a's values.
+        const Eigen::SparseMatrix<double> at = a.transpose();
+        std::vector<int> position(std::size_t(a.nonZeros()));  // at's entry -> a's entry (same pattern)
+        {
+            std::vector<int> next(a.outerIndexPtr(), a.outerIndexPtr() + n_);
+            for (int j = 0; j < n_; ++j) {
+                for (int p = at.outerIndexPtr()[j]; p < at.outerIndexPtr()[j + 1]; ++p) {
+                    position[std::size_t(p)] = next[std::size_t(at.innerIndexPtr()[p])]++;
+                }
+            }
+        }
+        upperStart_.assign(std::size_t(n_) + 1, 0);
+        lowerStart_.assign(std::size_t(n_) + 1, 0);
+        upperAt_.clear();
+        upperRow_.clear();
+        lowerAt_.clear();
+        lowerCol_.clear();
+        for (int k = 0; k < n_; ++k) {
+            const int old = perm_[std::size_t(k)];
+            for (int p = a.outerIndexPtr()[old]; p < a.outerIndexPtr()[old + 1]; ++p) {
+                const int i = iperm_[std::size_t(a.innerIndexPtr()[p])];
+                if (i > k) continue;
+                upperAt_.push_back(p);
+                upperRow_.push_back(i);
+            }
+            for (int p = at.outerIndexPtr()[old]; p < at.outerIndexPtr()[old + 1]; ++p) {
+                const int j = iperm_[std::size_t(at.innerIndexPtr()[p])];
+                if (j >= k) continue;
+                lowerAt_.push_back(position[std::size_t(p)]);
+                lowerCol_.push_back(j);
+            }
+            upperStart_[std::size_t(k) + 1] = int(upperAt_.size());
+            lowerStart_[std::size_t(k) + 1] = int(lowerAt_.size());
+        }
         colPtr_.assign(std::size_t(n_) + 1, 0);
         for (int k = 0; k < n_; ++k) colPtr_[std::size_t(k) + 1] = colPtr_[std::size_t(k)] + count[std::size_t(k)];
         const std::size_t nnz = std::size_t(colPtr_[std::size_t(n_)]);
@@ -66,7 +100,7 @@ public:
     /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite.
     bool factorize(const Eigen::SparseMatrix<double>& a) {
         if (!analysed_ || int(a.rows()) != n_ || a.nonZeros() != nonZeros_) return false;
-        const Eigen::SparseMatrix<double> at = a.transpose();  // rows of a, for the rows of L
+        const double* value = a.valuePtr();
         d_.assign(std::size_t(n_), 0.0);
         y_.assign(std::size_t(n_), 0.0);
         z_.assign(std::size_t(n_), 0.0);
@@ -78,10 +112,9 @@ public:
             // rows of L reached from it through the elimination tree) in topological order at pattern_[top..n).
             int top = n_;
             flag_[std::size_t(k)] = k;
-            for (Eigen::SparseMatrix<double>::InnerIterator it(a, perm_[std::size_t(k)]); it; ++it) {
-                int i = iperm_[std::size_t(it.row())];
-                if (i > k) continue;
-                y_[std::size_t(i)] += it.value();
+            for (int e = upperStart_[std::size_t(k)]; e < upperStart_[std::size_t(k) + 1]; ++e) {
+                int i = upperRow_[std::size_t(e)];
+                y_[std::size_t(i)] += value[upperAt_[std::size_t(e)]];
                 int len = 0;
                 for (; flag_[std::size_t(i)] != k; i = parent_[std::size_t(i)]) {
                     pattern_[std::size_t(len++)] = i;
@@ -89,11 +122,8 @@ public:
                 }
                 while (len > 0) pattern_[std::size_t(--top)] = pattern_[std::size_t(--len)];
             }
-            for (Eigen::SparseMatrix<double>::InnerIterator it(at, perm_[std::size_t(k)]); it; ++it) {
-                const int j = iperm_[std::size_t(it.row())];
-                if (j >= k) continue;
-                if (flag_[std::size_t(j)] != k) return false;  // the pattern is not symmetric
-                z_[std::size_t(j)] += it.value();
+            for (int e = lowerStart_[std::size_t(k)]; e < lowerStart_[std::size_t(k) + 1]; ++e) {
+                z_[std::size_t(lowerCol_[std::size_t(e)])] += value[lowerAt_[std::size_t(e)]];
             }
             double dk = y_[std::size_t(k)];
             y_[std::size_t(k)] = 0.0;
@@ -164,6 +194,7 @@ private:
     Eigen::Index nonZeros_ = 0;
     bool analysed_ = false;
     std::vector<int> perm_, iperm_, parent_, colPtr_, rowIdx_;
+    std::vector<int> upperStart_, upperAt_, upperRow_, lowerStart_, lowerAt_, lowerCol_;  // entries of a, per row k
     std::vector<double> lx_, ux_, d_;
     std::vector<int> flag_, pattern_, filled_;  // factorize's scratch
     std::vector<double> y_, z_;
