@@ -8,10 +8,12 @@
 // state at once:
 //   - a contact is separated (p_n = p_t = 0), sticking (u_n = u_t = 0) or slipping (u_n = 0, p_t = +-mu p_n), u the
 //     post-impulse velocities of the LCP's rows;
-//   - the step for those equations is one sparse LU factorisation (Eigen, COLAMD ordering) in body space: unknowns
-//     are the bodies' momentum changes (3 per movable body) and the free impulses, equations y = J~^T dp (J~ the rows
-//     of the free impulses, a slipping contact's normal column carrying +-mu times its tangent row) and
-//     J M^-1 y + eps G_ii dp = -u' (G the diagonal of J M^-1 J^T). The proximal term eps keeps the system regular:
+//   - the step for those equations is one sparse linear system in body space: unknowns are the bodies' velocity
+//     changes v (3 per movable body) and the free impulses, equations M v + J~^T q = known momentum (q = -dp, J~
+//     the rows of the free impulses, a slipping contact's normal column carrying +-mu times its tangent row) and
+//     J v - eps G q = -u' (G the diagonal of J M^-1 J^T). It is factored without pivoting in the AMD order of its
+//     symmetric pattern (core/symmetric_pattern_lu.h) and checked by GMRES with those factors as preconditioner, a
+//     pivoting sparse LU behind them. The proximal term eps keeps the system regular:
 //     piles have more rows than degrees of freedom, so J M^-1 J^T is singular, and without it a step follows the
 //     singular directions arbitrarily far;
 //   - phase 0 (8 iterations) keeps the face of the warm start: contacts pushing stay active, contacts inside their
@@ -28,12 +30,12 @@
 // It starts from the impulses the contacts carried last step (matched through feature ids), or from zero.
 //
 // Certification: an iterate is the answer only when the Stewart–Trinkle LCP itself holds: z = (p_n, max(p_t, 0),
-// max(-p_t, 0), lambda = |u_t|) and w = A z + b evaluated from the same rows (matrix-free, per body) have
+// max(-p_t, 0), lambda = |u_t| or 0, whichever is closer) and w = A z + b evaluated from the same rows (matrix-free, per body) have
 // max |min(z_i, w_i)| <= options.lcp.residualTolerance * max(max |A_ij|, max |b_i|), the rule every Lemke answer
 // passes; each step is also checked after projecting it onto p_n >= 0, |p_t| <= mu p_n (degenerate contacts end a
 // rounding step outside). A best iterate within options.acceptResidual is a near miss, applied and flagged as
-// Lemke's are; otherwise the caller goes on with Lemke (the guarantee). Every loop runs in index order and Eigen's sparse
-// LU with its COLAMD ordering is a pure function of the matrix, so the answer is the same bits everywhere.
+// Lemke's are; otherwise the caller goes on with Lemke (the guarantee). Every loop runs in index order, and the AMD and
+// COLAMD orderings are pure functions of the pattern, so the answer is the same bits everywhere.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -252,11 +254,16 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             for (int c = 0; c < nc; ++c) {
                 const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
                 const double un = u[std::size_t(2 * c)], ut = u[std::size_t(2 * c + 1)];
-                const double bp = std::max(pt, 0.0), bm = std::max(-pt, 0.0), lam = std::fabs(ut);
+                const double bp = std::max(pt, 0.0), bm = std::max(-pt, 0.0);
+                const double slack = sys.mu[std::size_t(c)] * pn - bp - bm;
+                // lambda is the LCP's own unknown: |u_t| (exact for a contact that slides against its friction) or 0
+                // (better for one on the cone's rim that slides along it by a rounding amount), whichever is closer.
+                auto frictionTerms = [&](double lam) {
+                    return std::max({std::fabs(std::min(bp, ut + lam)), std::fabs(std::min(bm, -ut + lam)),
+                                     std::fabs(std::min(lam, slack))});
+                };
                 res = std::max(res, std::fabs(std::min(pn, un)));
-                res = std::max(res, std::fabs(std::min(bp, ut + lam)));
-                res = std::max(res, std::fabs(std::min(bm, -ut + lam)));
-                res = std::max(res, std::fabs(std::min(lam, sys.mu[std::size_t(c)] * pn - bp - bm)));
+                res = std::max(res, std::min(frictionTerms(std::fabs(ut)), frictionTerms(0.0)));
             }
             return res;
         };
@@ -420,12 +427,13 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             const int nf = int(freeUnknown.size());
             const int n = ndof + nf;
             // The body-space system. With v = M^-1 y (the bodies' velocity changes) and q = -dp it reads
-            //   [M, J~^T; J, -eps G] [v; q] = [known momentum; -u'],
-            // whose symmetric part S = [M, J^T; J, -eps G] (J~ without the slipping contacts' mu t columns) is
-            // quasi-definite: it has an LDL^T factorisation in any symmetric order (AMD here), with about a tenth of
-            // the fill of a pivoting LU of the whole system. The step is S^-1-preconditioned GMRES on the whole
-            // system (one S solve when nothing slips); the pivoting LU of [I, -J~^T; J M^-1, eps G] takes over when
-            // it does not converge. A component whose inverse mass or inertia is zero does not move (v = 0).
+            //   K [v; q] = [M, J~^T; J, -eps G] [v; q] = [known momentum; -u'].
+            // Its pattern is symmetric (a slipping contact's tangent column touches its normal row's bodies), and
+            // without slipping contacts it is quasi-definite, which has an LDL^T in any symmetric order: K is factored
+            // as L D U without pivoting in the AMD order of its pattern (a tenth of the fill of a pivoting LU), and
+            // GMRES with those factors as preconditioner checks the step (usually with no product). The pivoting LU
+            // of [I, -J~^T; J M^-1, eps G] takes over when GMRES does not converge. A component whose inverse mass or
+            // inertia is zero does not move (v = 0).
             triplets.clear();
             slipTriplets.clear();
             for (int k = 0; k < nb; ++k) {

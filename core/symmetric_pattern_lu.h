@@ -30,6 +30,12 @@ public:
     /// The ordering and the elimination tree of `a`'s pattern (square, column-major). A pattern that is not
     /// symmetric is remembered as such, and factorize refuses it.
     void analyzePattern(const Eigen::SparseMatrix<double>& a) {
+        if (!a.isCompressed()) {  // the index arrays below are those of compressed storage
+            Eigen::SparseMatrix<double> compressed = a;
+            compressed.makeCompressed();
+            analyzePattern(compressed);
+            return;
+        }
         n_ = int(a.rows());
         nonZeros_ = a.nonZeros();
         analysed_ = a.rows() == a.cols() && symmetricPattern(a);
@@ -99,6 +105,11 @@ public:
 
     /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite.
     bool factorize(const Eigen::SparseMatrix<double>& a) {
+        if (!a.isCompressed()) {
+            Eigen::SparseMatrix<double> compressed = a;
+            compressed.makeCompressed();
+            return factorize(compressed);
+        }
         if (!analysed_ || int(a.rows()) != n_ || a.nonZeros() != nonZeros_) return false;
         const double* value = a.valuePtr();
         d_.assign(std::size_t(n_), 0.0);
