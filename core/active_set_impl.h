@@ -23,11 +23,12 @@
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
 //     touching and sticking), with u' the velocities of the proximal sub-problem u + eps G_ii (p - centre): eps
 //     starts at 1e-4 and the centre moves, with eps 10x smaller, whenever the states repeat; a step whose summed
-//     squared natural residual is not below the previous iterate's (phase 0's last, for the first) is halved up to 3
-//     times;
+//     squared natural residual is not below the previous iterate's (for the first: phase 0's last, or the start's
+//     when cold) is halved up to 3 times;
 //   - phase 2 (8 iterations) keeps the face of phase 1's best iterate: degenerate contacts of a pile (no load, no
 //     approach) make the states of phase 1 alternate, and fixing them lets the iterate settle on the face.
-// It starts from the impulses the contacts carried last step (matched through feature ids), or from zero.
+// It starts from the impulses the contacts carried last step (matched through feature ids), or from zero (a cold start,
+// which skips phase 0).
 //
 // Certification: an iterate is the answer only when the Stewart–Trinkle LCP itself holds: z = (p_n, max(p_t, 0),
 // max(-p_t, 0), lambda = |u_t| or 0, whichever is closer) and w = A z + b evaluated from the same rows (matrix-free, per body) have
@@ -333,11 +334,13 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         const std::vector<double> warmX = x, warmU = u;
         double bestResidual = lcpResidual(x, u);
         // Phases: 0 refines on the face of the warm start (a resting pile's face rarely changes), 1 is the
-        // active-set iteration proper, 2 refines on the face of the best iterate of phase 1.
-        int phase = 0;
-        bool polish = true;
-        int limit = kPolish;
-        epsRel = kPolishEps;
+        // active-set iteration proper, 2 refines on the face of the best iterate of phase 1. A cold start (no
+        // impulse) has no face worth refining (every touching contact would slip at p = 0) and begins with phase 1.
+        const bool cold = std::all_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
+        int phase = cold ? 1 : 0;
+        bool polish = !cold;
+        int limit = cold ? settings.maxIterations : kPolish;
+        epsRel = cold ? kEps0 : kPolishEps;
         for (;;) {
             if (lcpResidual(x, u) <= tolAbs) {
                 solved = true;

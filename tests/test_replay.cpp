@@ -41,7 +41,7 @@ const Golden kGolden[] = {
     {"mixed_pile", 300, 0x90f88d1bb15c3bacull, 0x1fae36e182c38077ull},
     {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
     {"pyramid16", 120, 0x97dc8806fb0140a4ull, 0xa11e17b0007ed425ull},
-    {"large_pyramid24", 30, 0x1230d37219f8d196ull, 0x71d65ebcf6ed72cfull},
+    {"large_pyramid24", 30, 0xb78e29bed505b7abull, 0x8f28dd27e8abe96full},
     {"box_heap3d", 180, 0x1bf981982f0688a9ull, 0x29ea3be7140a0534ull},
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
     {"bunnies3d", 240, 0xa34e28d8540fe337ull, 0xcf9c4a1fa9a4066eull},
