@@ -31,12 +31,12 @@
 // which skips phase 0).
 //
 // Certification: an iterate is the answer only when the Stewart–Trinkle LCP itself holds: z = (p_n, max(p_t, 0),
-// max(-p_t, 0), lambda = |u_t| or 0, whichever is closer) and w = A z + b evaluated from the same rows (matrix-free, per body) have
-// max |min(z_i, w_i)| <= options.lcp.residualTolerance * max(max |A_ij|, max |b_i|), the rule every Lemke answer
-// passes; each step is also checked after projecting it onto p_n >= 0, |p_t| <= mu p_n (degenerate contacts end a
-// rounding step outside). A best iterate within options.acceptResidual is a near miss, applied and flagged as
-// Lemke's are; otherwise the caller goes on with Lemke (the guarantee). Every loop runs in index order, and the AMD and
-// COLAMD orderings are pure functions of the pattern, so the answer is the same bits everywhere.
+// max(-p_t, 0), lambda = |u_t| or 0, whichever is closer) and w = A z + b evaluated from the same rows (matrix-free,
+// per body) have max |min(z_i, w_i)| <= options.lcp.residualTolerance * max(max |A_ij|, max |b_i|), the rule every
+// Lemke answer passes; each step is also checked after projecting it onto p_n >= 0, |p_t| <= mu p_n (degenerate
+// contacts end a rounding step outside). A best iterate within options.acceptResidual is a near miss, applied and
+// flagged as Lemke's are; otherwise the caller goes on with Lemke (the guarantee). Every loop runs in index order,
+// and the AMD and COLAMD orderings are pure functions of the pattern, so the answer is the same bits everywhere.
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -77,7 +77,9 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
     work += applyWork;
     std::vector<double> rowSum(std::size_t(n), 0.0);
     for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-        for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) rowSum[std::size_t(it.row())] += std::fabs(it.value());
+        for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+            rowSum[std::size_t(it.row())] += std::fabs(it.value());
+        }
     }
     double normA = 0.0;
     for (double v : rowSum) normA = std::max(normA, v);
@@ -319,7 +321,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<Eigen::Triplet<double>> slipTriplets;
         std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
-        int luSteps = 0;
         int iterations = 0;
         bool solved = false;
         // Proximal term of phase 1, relative to each row's diagonal: 1e-4 at first, 10x smaller each time the states
@@ -395,7 +396,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 const double gt = diag[std::size_t(2 * c + 1)];
                 const double bound = sys.mu[std::size_t(c)] * (polish ? pn : yn);
                 const double yt = gt > 0.0 ? (polish ? pt : pt - ue[std::size_t(2 * c + 1)] / gt) : 0.0;
-                if (gt > 0.0 && (polish ? std::fabs(pt) < sys.mu[std::size_t(c)] * pn : std::fabs(yt) <= bound + tolAbs / gt)) {
+                const bool sticks = gt > 0.0 && (polish ? std::fabs(pt) < sys.mu[std::size_t(c)] * pn
+                                                        : std::fabs(yt) <= bound + tolAbs / gt);
+                if (sticks) {
                     state[std::size_t(c)] = kStick;
                     freeIndex[std::size_t(2 * c + 1)] = int(freeUnknown.size());
                     freeUnknown.push_back(2 * c + 1);
@@ -532,7 +535,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
                 sol = lu.solve(rv);
                 work += std::uint64_t(K.nonZeros()) + 2 * std::uint64_t(lu.nnzL() + lu.nnzU());
-                ++luSteps;
             }
             work += rowWork;
             // The whole step.
