@@ -440,6 +440,12 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             // GMRES with those factors as preconditioner checks the step (usually with no product). The pivoting LU
             // of [I, -J~^T; J M^-1, eps G] takes over when GMRES does not converge. A component whose inverse mass or
             // inertia is zero does not move (v = 0).
+            // +-mu for the normal column of a slipping contact (its tangent row's share), 0 otherwise.
+            auto slipFactor = [&](int c, int r) {
+                const std::uint8_t st = state[std::size_t(c)];
+                if (r != 0 || (st != kSlipPlus && st != kSlipMinus)) return 0.0;
+                return (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)];
+            };
             triplets.clear();
             slipTriplets.clear();
             for (int k = 0; k < nb; ++k) {
@@ -457,10 +463,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 const int unknown = freeUnknown[std::size_t(f)];
                 const int c = unknown / 2, r = unknown % 2;
                 const int col = ndof + f;
-                const std::uint8_t st = state[std::size_t(c)];
-                const double slip = r == 0 && (st == kSlipPlus || st == kSlipMinus)
-                                        ? (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)]
-                                        : 0.0;
+                const double slip = slipFactor(c, r);
                 const detail::JacobianRow<D>& row = rowAt(c, r);
                 const detail::JacobianRow<D>& trow = rowAt(c, 1);
                 for (int s = 0; s < 2; ++s) {
@@ -506,10 +509,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     const int unknown = freeUnknown[std::size_t(f)];
                     const int c = unknown / 2, r = unknown % 2;
                     const int col = ndof + f;
-                    const std::uint8_t st = state[std::size_t(c)];
-                    const double slip = r == 0 && (st == kSlipPlus || st == kSlipMinus)
-                                            ? (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)]
-                                            : 0.0;
+                    const double slip = slipFactor(c, r);
                     const detail::JacobianRow<D>& row = rowAt(c, r);
                     const detail::JacobianRow<D>& trow = rowAt(c, 1);
                     for (int s = 0; s < 2; ++s) {
