@@ -488,7 +488,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 Eigen::SparseMatrix<double> K(n, n);
                 K.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
                 if (freeUnknown != analysedFree) {
-                    factor.analyzePattern(K);  // a pure function of the pattern, which the free unknowns determine
+                    factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;
                 }
                 if (factor.factorize(K)) {

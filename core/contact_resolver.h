@@ -21,6 +21,8 @@
 
 namespace unison {
 
+class SymmetricPatternCache;  // core/symmetric_pattern_lu.h
+
 /// State of one body as the resolver sees it (SI units). For a static body set invMass = 0 and invInertia = 0.
 template <class D>
 struct ResolverBody {
@@ -162,6 +164,8 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
 struct ActiveSetOptions {
     int maxIterations = 12;          ///< iterations of the active-set phase (one sparse factorisation each)
     std::uint64_t maxWork = 0;       ///< stop once this many work units are spent (0: no limit)
+    /// Analyses of system patterns kept between calls (nullptr: none); it changes the cost, never the answer.
+    SymmetricPatternCache* patternCache = nullptr;
 };
 
 /// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started

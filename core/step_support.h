@@ -90,7 +90,7 @@ constexpr std::uint32_t kActiveSetEntry = 1u << 30;
 /// cold start about n/2 pivots of O(n) each, which the active-set iterations beat only on big islands (measured:
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step
 /// against more than 15 s/step).
-constexpr int kActiveSetMinContacts = 512;
+constexpr int kActiveSetMinContacts = 64;
 
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).

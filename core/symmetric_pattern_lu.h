@@ -1,8 +1,10 @@
 // core/symmetric_pattern_lu.h — an LDU factorisation without pivoting of a sparse square matrix whose nonzero pattern
 // is symmetric (its values need not be), in a fill-reducing symmetric order (AMD of the pattern).
 //
-// Owns: the ordering and elimination tree of one pattern (analyzePattern, reused while the pattern stays the same),
-// the factors L (unit lower), D, U (unit upper) of P A P^T, and solves with them.
+// Owns: the factors L (unit lower), D, U (unit upper) of P A P^T, and solves with them. The analysis of a pattern (its
+// ordering, elimination tree and where each entry goes) is shared: analyzePattern reuses it while the pattern stays
+// the same, and a SymmetricPatternCache keeps the analyses of the patterns seen in recent steps (a settled island's
+// system has the same pattern step after step, and its AMD ordering costs more than its factorisation).
 //
 // It is the factorisation of the active-set path's body-space system [M, J~^T; J, -eps G] (core/active_set_impl.h):
 // the pattern is symmetric because a slipping contact's tangent column touches the same bodies as its normal row, and
@@ -21,83 +23,133 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace unison {
 
+/// What SymmetricPatternLu knows of one pattern before it sees values: a pure function of the pattern (the index
+/// arrays of a compressed column-major matrix).
+struct SymmetricPatternAnalysis {
+    int n = 0;
+    Eigen::Index nonZeros = 0;
+    bool symmetric = false;                  // false: factorize refuses the pattern
+    std::vector<int> perm, iperm;            // AMD order: new index -> old index, and back
+    std::vector<int> parent, colPtr;         // elimination tree; where each column of L (row of U) starts
+    std::vector<int> upperStart, upperAt, upperRow;  // column k of P A P^T on and above the diagonal: a's entries
+    std::vector<int> lowerStart, lowerAt, lowerCol;  // row k of P A P^T left of the diagonal: a's entries
+
+    /// The analysis of `a` (square, compressed).
+    static std::shared_ptr<const SymmetricPatternAnalysis> of(const Eigen::SparseMatrix<double>& a);
+    std::size_t bytes() const {
+        return sizeof(*this) + sizeof(int) * (perm.size() + iperm.size() + parent.size() + colPtr.size() +
+                                              upperStart.size() + upperAt.size() + upperRow.size() +
+                                              lowerStart.size() + lowerAt.size() + lowerCol.size());
+    }
+};
+
+/// The analyses of the patterns met recently, found again by the pattern itself (its index arrays, compared in full;
+/// a 64-bit hash only picks the candidate). Whether a pattern is found never changes a result, only its cost: an
+/// analysis is a pure function of the pattern. Bounded: nextGeneration() drops the entries not used since its last
+/// call (the world calls it once per step), and a pattern that would take the cache past maxBytes is not kept.
+class SymmetricPatternCache {
+public:
+    static constexpr std::size_t kDefaultBytes = std::size_t(64) << 20;
+    explicit SymmetricPatternCache(std::size_t maxBytes = kDefaultBytes) : maxBytes_(maxBytes) {}
+
+    std::shared_ptr<const SymmetricPatternAnalysis> find(const Eigen::SparseMatrix<double>& a) {
+        const auto it = entries_.find(hashOf(a));
+        if (it == entries_.end() || !samePattern(it->second, a)) {
+            ++misses_;
+            return nullptr;
+        }
+        ++hits_;
+        it->second.generation = generation_;
+        return it->second.analysis;
+    }
+    void insert(const Eigen::SparseMatrix<double>& a, std::shared_ptr<const SymmetricPatternAnalysis> analysis) {
+        const std::uint64_t key = hashOf(a);
+        const std::size_t outer = std::size_t(a.outerSize()) + 1, inner = std::size_t(a.nonZeros());
+        const std::size_t size = analysis->bytes() + sizeof(int) * (outer + inner) + sizeof(Entry);
+        const auto it = entries_.find(key);
+        if (it != entries_.end()) {  // a different pattern with the same hash: the newer one replaces it
+            bytes_ -= it->second.bytes;
+            entries_.erase(it);
+        }
+        if (bytes_ + size > maxBytes_) return;
+        Entry& e = entries_[key];
+        e.outer.assign(a.outerIndexPtr(), a.outerIndexPtr() + outer);
+        e.inner.assign(a.innerIndexPtr(), a.innerIndexPtr() + inner);
+        e.analysis = std::move(analysis);
+        e.generation = generation_;
+        e.bytes = size;
+        bytes_ += size;
+    }
+    /// Drops the entries that no find or insert used since the previous call.
+    void nextGeneration() {
+        for (auto it = entries_.begin(); it != entries_.end();) {
+            if (it->second.generation != generation_) {
+                bytes_ -= it->second.bytes;
+                it = entries_.erase(it);
+            } else {
+                ++it;
+            }
+        }
+        ++generation_;
+    }
+    std::size_t size() const { return entries_.size(); }
+    std::size_t bytes() const { return bytes_; }
+    std::uint64_t hits() const { return hits_; }
+    std::uint64_t misses() const { return misses_; }
+
+private:
+    struct Entry {
+        std::vector<int> outer, inner;
+        std::shared_ptr<const SymmetricPatternAnalysis> analysis;
+        std::uint64_t generation = 0;
+        std::size_t bytes = 0;
+    };
+    static std::uint64_t hashOf(const Eigen::SparseMatrix<double>& a) {
+        std::uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a over the index arrays, one int at a time
+        auto mix = [&h](std::uint64_t v) { h = (h ^ v) * 0x100000001b3ull; };
+        mix(std::uint64_t(a.rows()));
+        mix(std::uint64_t(a.nonZeros()));
+        for (Eigen::Index j = 0; j <= a.outerSize(); ++j) mix(std::uint32_t(a.outerIndexPtr()[j]));
+        for (Eigen::Index p = 0; p < a.nonZeros(); ++p) mix(std::uint32_t(a.innerIndexPtr()[p]));
+        return h;
+    }
+    static bool samePattern(const Entry& e, const Eigen::SparseMatrix<double>& a) {
+        if (e.outer.size() != std::size_t(a.outerSize()) + 1 || e.inner.size() != std::size_t(a.nonZeros()))
+            return false;
+        return std::equal(e.outer.begin(), e.outer.end(), a.outerIndexPtr()) &&
+               std::equal(e.inner.begin(), e.inner.end(), a.innerIndexPtr());
+    }
+
+    std::unordered_map<std::uint64_t, Entry> entries_;
+    std::size_t maxBytes_ = kDefaultBytes, bytes_ = 0;
+    std::uint64_t generation_ = 0, hits_ = 0, misses_ = 0;
+};
+
 class SymmetricPatternLu {
 public:
-    /// The ordering and the elimination tree of `a`'s pattern (square, column-major). A pattern that is not
-    /// symmetric is remembered as such, and factorize refuses it.
-    void analyzePattern(const Eigen::SparseMatrix<double>& a) {
-        if (!a.isCompressed()) {  // the index arrays below are those of compressed storage
+    /// The ordering and the elimination tree of `a`'s pattern (square, column-major): found in `cache` when it holds
+    /// the pattern, computed (and offered to it) otherwise. A pattern that is not symmetric is remembered as such,
+    /// and factorize refuses it.
+    void analyzePattern(const Eigen::SparseMatrix<double>& a, SymmetricPatternCache* cache = nullptr) {
+        if (!a.isCompressed()) {  // the index arrays are those of compressed storage
             Eigen::SparseMatrix<double> compressed = a;
             compressed.makeCompressed();
-            analyzePattern(compressed);
+            analyzePattern(compressed, cache);
             return;
         }
-        n_ = int(a.rows());
-        nonZeros_ = a.nonZeros();
-        analysed_ = a.rows() == a.cols() && symmetricPattern(a);
-        if (!analysed_) return;
-        Eigen::AMDOrdering<int> amd;
-        Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
-        amd(a, pinv);
-        perm_.assign(pinv.indices().data(), pinv.indices().data() + n_);  // new index -> old index
-        iperm_.assign(std::size_t(n_), 0);
-        for (int k = 0; k < n_; ++k) iperm_[std::size_t(perm_[std::size_t(k)])] = k;
-        parent_.assign(std::size_t(n_), -1);
-        std::vector<int> count(std::size_t(n_), 0);
-        flag_.assign(std::size_t(n_), -1);
-        for (int k = 0; k < n_; ++k) {
-            flag_[std::size_t(k)] = k;
-            for (Eigen::SparseMatrix<double>::InnerIterator it(a, perm_[std::size_t(k)]); it; ++it) {
-                int i = iperm_[std::size_t(it.row())];
-                if (i >= k) continue;
-                for (; flag_[std::size_t(i)] != k; i = parent_[std::size_t(i)]) {
-                    if (parent_[std::size_t(i)] == -1) parent_[std::size_t(i)] = k;
-                    ++count[std::size_t(i)];
-                    flag_[std::size_t(i)] = k;
-                }
-            }
+        an_ = cache ? cache->find(a) : nullptr;
+        if (!an_) {
+            an_ = SymmetricPatternAnalysis::of(a);
+            if (cache) cache->insert(a, an_);
         }
-        // Where factorize reads column k (rows <= k) and row k (columns < k) of P A P^T in a's values.
-        const Eigen::SparseMatrix<double> at = a.transpose();
-        std::vector<int> position(std::size_t(a.nonZeros()));  // at's entry -> a's entry (same pattern)
-        {
-            std::vector<int> next(a.outerIndexPtr(), a.outerIndexPtr() + n_);
-            for (int j = 0; j < n_; ++j) {
-                for (int p = at.outerIndexPtr()[j]; p < at.outerIndexPtr()[j + 1]; ++p) {
-                    position[std::size_t(p)] = next[std::size_t(at.innerIndexPtr()[p])]++;
-                }
-            }
-        }
-        upperStart_.assign(std::size_t(n_) + 1, 0);
-        lowerStart_.assign(std::size_t(n_) + 1, 0);
-        upperAt_.clear();
-        upperRow_.clear();
-        lowerAt_.clear();
-        lowerCol_.clear();
-        for (int k = 0; k < n_; ++k) {
-            const int old = perm_[std::size_t(k)];
-            for (int p = a.outerIndexPtr()[old]; p < a.outerIndexPtr()[old + 1]; ++p) {
-                const int i = iperm_[std::size_t(a.innerIndexPtr()[p])];
-                if (i > k) continue;
-                upperAt_.push_back(p);
-                upperRow_.push_back(i);
-            }
-            for (int p = at.outerIndexPtr()[old]; p < at.outerIndexPtr()[old + 1]; ++p) {
-                const int j = iperm_[std::size_t(at.innerIndexPtr()[p])];
-                if (j >= k) continue;
-                lowerAt_.push_back(position[std::size_t(p)]);
-                lowerCol_.push_back(j);
-            }
-            upperStart_[std::size_t(k) + 1] = int(upperAt_.size());
-            lowerStart_[std::size_t(k) + 1] = int(lowerAt_.size());
-        }
-        colPtr_.assign(std::size_t(n_) + 1, 0);
-        for (int k = 0; k < n_; ++k) colPtr_[std::size_t(k) + 1] = colPtr_[std::size_t(k)] + count[std::size_t(k)];
-        const std::size_t nnz = std::size_t(colPtr_[std::size_t(n_)]);
+        const std::size_t nnz = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
         rowIdx_.assign(nnz, 0);
         lx_.assign(nnz, 0.0);
         ux_.assign(nnz, 0.0);
@@ -110,40 +162,42 @@ public:
             compressed.makeCompressed();
             return factorize(compressed);
         }
-        if (!analysed_ || int(a.rows()) != n_ || a.nonZeros() != nonZeros_) return false;
+        if (!an_ || !an_->symmetric || int(a.rows()) != an_->n || a.nonZeros() != an_->nonZeros) return false;
+        const SymmetricPatternAnalysis& an = *an_;
+        const int n = an.n;
         const double* value = a.valuePtr();
-        d_.assign(std::size_t(n_), 0.0);
-        y_.assign(std::size_t(n_), 0.0);
-        z_.assign(std::size_t(n_), 0.0);
-        pattern_.assign(std::size_t(n_), 0);
-        filled_.assign(std::size_t(n_), 0);
-        flag_.assign(std::size_t(n_), -1);
-        for (int k = 0; k < n_; ++k) {
+        d_.assign(std::size_t(n), 0.0);
+        y_.assign(std::size_t(n), 0.0);
+        z_.assign(std::size_t(n), 0.0);
+        pattern_.assign(std::size_t(n), 0);
+        filled_.assign(std::size_t(n), 0);
+        flag_.assign(std::size_t(n), -1);
+        for (int k = 0; k < n; ++k) {
             // Column k of P A P^T above the diagonal into y, row k left of it into z, and their common pattern (the
             // rows of L reached from it through the elimination tree) in topological order at pattern_[top..n).
-            int top = n_;
+            int top = n;
             flag_[std::size_t(k)] = k;
-            for (int e = upperStart_[std::size_t(k)]; e < upperStart_[std::size_t(k) + 1]; ++e) {
-                int i = upperRow_[std::size_t(e)];
-                y_[std::size_t(i)] += value[upperAt_[std::size_t(e)]];
+            for (int e = an.upperStart[std::size_t(k)]; e < an.upperStart[std::size_t(k) + 1]; ++e) {
+                int i = an.upperRow[std::size_t(e)];
+                y_[std::size_t(i)] += value[an.upperAt[std::size_t(e)]];
                 int len = 0;
-                for (; flag_[std::size_t(i)] != k; i = parent_[std::size_t(i)]) {
+                for (; flag_[std::size_t(i)] != k; i = an.parent[std::size_t(i)]) {
                     pattern_[std::size_t(len++)] = i;
                     flag_[std::size_t(i)] = k;
                 }
                 while (len > 0) pattern_[std::size_t(--top)] = pattern_[std::size_t(--len)];
             }
-            for (int e = lowerStart_[std::size_t(k)]; e < lowerStart_[std::size_t(k) + 1]; ++e) {
-                z_[std::size_t(lowerCol_[std::size_t(e)])] += value[lowerAt_[std::size_t(e)]];
+            for (int e = an.lowerStart[std::size_t(k)]; e < an.lowerStart[std::size_t(k) + 1]; ++e) {
+                z_[std::size_t(an.lowerCol[std::size_t(e)])] += value[an.lowerAt[std::size_t(e)]];
             }
             double dk = y_[std::size_t(k)];
             y_[std::size_t(k)] = 0.0;
-            for (; top < n_; ++top) {
+            for (; top < n; ++top) {
                 const int i = pattern_[std::size_t(top)];
                 const double yi = y_[std::size_t(i)], zi = z_[std::size_t(i)];
                 y_[std::size_t(i)] = 0.0;
                 z_[std::size_t(i)] = 0.0;
-                const int begin = colPtr_[std::size_t(i)], end = begin + filled_[std::size_t(i)];
+                const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
                 for (int p = begin; p < end; ++p) {
                     y_[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * yi;
                     z_[std::size_t(rowIdx_[std::size_t(p)])] -= ux_[std::size_t(p)] * zi;
@@ -164,24 +218,26 @@ public:
 
     /// x with A x = b, from the last factorisation.
     Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
+        const SymmetricPatternAnalysis& an = *an_;
+        const int n = an.n;
         std::vector<double>& w = work_;
-        w.resize(std::size_t(n_));
-        for (int k = 0; k < n_; ++k) w[std::size_t(k)] = b[perm_[std::size_t(k)]];
-        for (int j = 0; j < n_; ++j) {  // L w' = w
+        w.resize(std::size_t(n));
+        for (int k = 0; k < n; ++k) w[std::size_t(k)] = b[an.perm[std::size_t(k)]];
+        for (int j = 0; j < n; ++j) {  // L w' = w
             const double wj = w[std::size_t(j)];
             if (wj == 0.0) continue;
-            for (int p = colPtr_[std::size_t(j)]; p < colPtr_[std::size_t(j) + 1]; ++p)
+            for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
                 w[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * wj;
         }
-        for (int j = 0; j < n_; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
-        for (int j = n_ - 1; j >= 0; --j) {  // U w'' = w'
+        for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
+        for (int j = n - 1; j >= 0; --j) {  // U w'' = w'
             double s = w[std::size_t(j)];
-            for (int p = colPtr_[std::size_t(j)]; p < colPtr_[std::size_t(j) + 1]; ++p)
+            for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
                 s -= ux_[std::size_t(p)] * w[std::size_t(rowIdx_[std::size_t(p)])];
             w[std::size_t(j)] = s;
         }
-        Eigen::VectorXd x(n_);
-        for (int k = 0; k < n_; ++k) x[perm_[std::size_t(k)]] = w[std::size_t(k)];
+        Eigen::VectorXd x(n);
+        for (int k = 0; k < n; ++k) x[an.perm[std::size_t(k)]] = w[std::size_t(k)];
         return x;
     }
 
@@ -189,27 +245,82 @@ public:
     std::size_t factorNonZeros() const { return rowIdx_.size(); }
 
 private:
-    static bool symmetricPattern(const Eigen::SparseMatrix<double>& a) {
-        const Eigen::SparseMatrix<double> at = a.transpose();
-        for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
-            Eigen::SparseMatrix<double>::InnerIterator p(a, j), q(at, j);
-            for (; p && q; ++p, ++q) {
-                if (p.row() != q.row()) return false;
-            }
-            if (p || q) return false;
-        }
-        return true;
-    }
-
-    int n_ = 0;
-    Eigen::Index nonZeros_ = 0;
-    bool analysed_ = false;
-    std::vector<int> perm_, iperm_, parent_, colPtr_, rowIdx_;
-    std::vector<int> upperStart_, upperAt_, upperRow_, lowerStart_, lowerAt_, lowerCol_;  // entries of a, per row k
+    std::shared_ptr<const SymmetricPatternAnalysis> an_;
+    std::vector<int> rowIdx_;
     std::vector<double> lx_, ux_, d_;
     std::vector<int> flag_, pattern_, filled_;  // factorize's scratch
     std::vector<double> y_, z_;
     mutable std::vector<double> work_;
 };
+
+inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis::of(const Eigen::SparseMatrix<double>& a) {
+    auto out = std::make_shared<SymmetricPatternAnalysis>();
+    SymmetricPatternAnalysis& r = *out;
+    const int n = int(a.rows());
+    r.n = n;
+    r.nonZeros = a.nonZeros();
+    if (a.rows() != a.cols()) return out;
+    const Eigen::SparseMatrix<double> at = a.transpose();
+    for (Eigen::Index j = 0; j < a.outerSize(); ++j) {  // a symmetric pattern: a and its transpose alike
+        Eigen::SparseMatrix<double>::InnerIterator p(a, j), q(at, j);
+        for (; p && q; ++p, ++q) {
+            if (p.row() != q.row()) return out;
+        }
+        if (p || q) return out;
+    }
+    r.symmetric = true;
+    Eigen::AMDOrdering<int> amd;
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
+    amd(a, pinv);
+    r.perm.assign(pinv.indices().data(), pinv.indices().data() + n);  // new index -> old index
+    r.iperm.assign(std::size_t(n), 0);
+    for (int k = 0; k < n; ++k) r.iperm[std::size_t(r.perm[std::size_t(k)])] = k;
+    r.parent.assign(std::size_t(n), -1);
+    std::vector<int> count(std::size_t(n), 0), flag(std::size_t(n), -1);
+    for (int k = 0; k < n; ++k) {
+        flag[std::size_t(k)] = k;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(a, r.perm[std::size_t(k)]); it; ++it) {
+            int i = r.iperm[std::size_t(it.row())];
+            if (i >= k) continue;
+            for (; flag[std::size_t(i)] != k; i = r.parent[std::size_t(i)]) {
+                if (r.parent[std::size_t(i)] == -1) r.parent[std::size_t(i)] = k;
+                ++count[std::size_t(i)];
+                flag[std::size_t(i)] = k;
+            }
+        }
+    }
+    // Where factorize reads column k (rows <= k) and row k (columns < k) of P A P^T in a's values.
+    std::vector<int> position(std::size_t(a.nonZeros()));  // at's entry -> a's entry (same pattern)
+    {
+        std::vector<int> next(a.outerIndexPtr(), a.outerIndexPtr() + n);
+        for (int j = 0; j < n; ++j) {
+            for (int p = at.outerIndexPtr()[j]; p < at.outerIndexPtr()[j + 1]; ++p) {
+                position[std::size_t(p)] = next[std::size_t(at.innerIndexPtr()[p])]++;
+            }
+        }
+    }
+    r.upperStart.assign(std::size_t(n) + 1, 0);
+    r.lowerStart.assign(std::size_t(n) + 1, 0);
+    for (int k = 0; k < n; ++k) {
+        const int old = r.perm[std::size_t(k)];
+        for (int p = a.outerIndexPtr()[old]; p < a.outerIndexPtr()[old + 1]; ++p) {
+            const int i = r.iperm[std::size_t(a.innerIndexPtr()[p])];
+            if (i > k) continue;
+            r.upperAt.push_back(p);
+            r.upperRow.push_back(i);
+        }
+        for (int p = at.outerIndexPtr()[old]; p < at.outerIndexPtr()[old + 1]; ++p) {
+            const int j = r.iperm[std::size_t(at.innerIndexPtr()[p])];
+            if (j >= k) continue;
+            r.lowerAt.push_back(position[std::size_t(p)]);
+            r.lowerCol.push_back(j);
+        }
+        r.upperStart[std::size_t(k) + 1] = int(r.upperAt.size());
+        r.lowerStart[std::size_t(k) + 1] = int(r.lowerAt.size());
+    }
+    r.colPtr.assign(std::size_t(n) + 1, 0);
+    for (int k = 0; k < n; ++k) r.colPtr[std::size_t(k) + 1] = r.colPtr[std::size_t(k)] + count[std::size_t(k)];
+    return out;
+}
 
 }  // namespace unison

@@ -28,6 +28,7 @@
 #include "step_budget.h"
 #include "step_support.h"
 #include "sweep_order.h"
+#include "symmetric_pattern_lu.h"
 #include "task_system.h"
 
 #include <algorithm>
@@ -193,6 +194,7 @@ private:
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
         IslandSetup setup;            // the island being solved
         PgsScratch<D> pgs;            // the approximation's working arrays
+        SymmetricPatternCache patterns;  // the active-set path's analyses of recent steps' system patterns
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -571,6 +573,8 @@ void WorldStep<D>::solveIslands(H& hooks) {
     auto runPass = [&](auto&& fn) {
         forEach(nj, 1, [&](int i, Worker& worker) { fn(mJobs[std::size_t(order[std::size_t(i)])], worker); });
     };
+    // Analyses unused for a whole step are dropped (found or not, an analysis never changes an answer).
+    for (Worker& w : mWorkers) w.patterns.nextGeneration();
     std::uint64_t reserve = 0;
     for (const Job& job : mJobs) reserve += job.minimum;
     mStats.minimumWork = mFixedWork + reserve;

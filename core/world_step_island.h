@@ -203,7 +203,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 warmImpulses.push_back(w.normal);
                 for (int d = 0; d < D::kDim; ++d) warmImpulses.push_back(w.tangent[d]);
             }
-            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, ActiveSetOptions{});
+            ActiveSetOptions fastOptions;
+            fastOptions.patternCache = &worker.patterns;
+            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, fastOptions);
             charge(fast);
             if (usable(fast)) {
                 res = std::move(fast);

@@ -138,6 +138,22 @@ TEST_CASE("active-set path: a resting wall of boxes from a cold start is certifi
     CHECK(std::memcmp(r2.impulses.data(), r.impulses.data(), r.impulses.size() * sizeof(double)) == 0);
     CHECK(std::memcmp(r2.tangentImpulses.data(), r.tangentImpulses.data(), r.tangentImpulses.size() * sizeof(double)) == 0);
     CHECK(r2.work == r.work);
+    // With a pattern cache: the first call fills it, the second finds its patterns there, and both give the bits of
+    // the calls without one (an analysis is a pure function of the pattern).
+    SymmetricPatternCache cache;
+    ActiveSetOptions cached;
+    cached.patternCache = &cache;
+    for (int call = 0; call < 2; ++call) {
+        std::vector<Body2> withCache = wall.bodies;
+        const Resolution rc = resolveActiveSet(withCache, wall.contacts, cold, options, cached);
+        REQUIRE(rc.impulses.size() == r.impulses.size());
+        CHECK(std::memcmp(rc.impulses.data(), r.impulses.data(), r.impulses.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(rc.tangentImpulses.data(), r.tangentImpulses.data(),
+                          r.tangentImpulses.size() * sizeof(double)) == 0);
+        CHECK(rc.work == r.work);
+    }
+    CHECK(cache.size() > 0);
+    CHECK(cache.hits() >= cache.size());  // every pattern of the second call was met in the first
 }
 
 TEST_CASE("active-set path: agrees with Lemke on the velocities of a sliding, bouncing island") {
@@ -226,7 +242,7 @@ TEST_CASE("Box2D v3's large pyramid (base 20) starts cold on the active-set path
 }
 
 
-TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a dense LU does, refuses what it cannot") {
+TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a dense LU does, refuses what it cannot, and reuses analyses") {
     // [M, J~^T; J, -eps G] as the active-set path builds it: 12 bodies in a chain, each pair joined by two rows, the
     // momentum rows of every other row carrying 0.6 times a second row (a slipping contact's tangent column).
     const int bodies = 12, nb = 3 * bodies, rows = 2 * (bodies - 1), n = nb + rows;
@@ -279,6 +295,46 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
     SymmetricPatternLu lu3;
     lu3.analyzePattern(lopsided);
     CHECK_FALSE(lu3.factorize(lopsided));
+
+    // The analysis cache: the same pattern with other values is found (and factors to the bits of a fresh analysis),
+    // another pattern is not; an analysis unused for a whole generation is dropped; the size bound holds.
+    SymmetricPatternCache cache;
+    SymmetricPatternLu cachedLu;
+    cachedLu.analyzePattern(a, &cache);
+    CHECK(cache.size() == 1);
+    CHECK(cache.misses() == 1);
+    Eigen::SparseMatrix<double> scaled = 2.0 * a;
+    cachedLu.analyzePattern(scaled, &cache);
+    CHECK(cache.hits() == 1);
+    REQUIRE(cachedLu.factorize(scaled));
+    SymmetricPatternLu fresh;
+    fresh.analyzePattern(scaled);
+    REQUIRE(fresh.factorize(scaled));
+    const Eigen::VectorXd viaCache = cachedLu.solve(b), viaFresh = fresh.solve(b);
+    CHECK(std::memcmp(viaCache.data(), viaFresh.data(), sizeof(double) * std::size_t(n)) == 0);
+    Eigen::SparseMatrix<double> other = a;
+    other.coeffRef(0, n - 1) = 0.5;  // a new entry and its mirror: another symmetric pattern
+    other.coeffRef(n - 1, 0) = 0.5;
+    other.makeCompressed();
+    cachedLu.analyzePattern(other, &cache);
+    CHECK(cache.misses() == 2);
+    CHECK(cache.size() == 2);
+    REQUIRE(cachedLu.factorize(other));
+    cache.nextGeneration();                 // both were used in the generation that ends here
+    CHECK(cache.size() == 2);
+    cachedLu.analyzePattern(a, &cache);     // only `a` is used in the next one
+    cache.nextGeneration();
+    CHECK(cache.size() == 1);
+    cachedLu.analyzePattern(other, &cache);  // dropped: analysed again
+    CHECK(cache.misses() == 3);
+    SymmetricPatternCache tiny(64);  // smaller than any analysis: nothing is kept, answers are unchanged
+    SymmetricPatternLu tinyLu;
+    tinyLu.analyzePattern(a, &tiny);
+    CHECK(tiny.size() == 0);
+    CHECK(tiny.bytes() == 0);
+    REQUIRE(tinyLu.factorize(a));
+    const Eigen::VectorXd viaTiny = tinyLu.solve(b);
+    CHECK(std::memcmp(viaTiny.data(), x.data(), sizeof(double) * std::size_t(n)) == 0);
 }
 
 }  // TEST_SUITE
