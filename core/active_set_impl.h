@@ -144,6 +144,62 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
     }
 }
 
+// Storage of assembleColumns, kept across the steps of one active-set solve.
+struct ColumnAssembly {
+    std::vector<int> start, fill, rows;
+    std::vector<double> values;
+};
+
+// The column-major n x n matrix of `entries` (row, column, value): duplicates summed in the order given, rows ascending
+// within each column. The same matrix, to the bit, as Eigen's setFromTriplets, which sums in the same order, without
+// its row-major intermediate.
+inline void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries,
+                            Eigen::SparseMatrix<double>& out, ColumnAssembly& ws) {
+    ws.start.assign(std::size_t(n) + 1, 0);
+    for (const Eigen::Triplet<double>& e : entries) ++ws.start[std::size_t(e.col()) + 1];
+    for (int j = 0; j < n; ++j) ws.start[std::size_t(j) + 1] += ws.start[std::size_t(j)];
+    ws.fill.assign(ws.start.begin(), ws.start.end() - 1);
+    ws.rows.resize(entries.size());
+    ws.values.resize(entries.size());
+    for (const Eigen::Triplet<double>& e : entries) {
+        const int p = ws.fill[std::size_t(e.col())]++;
+        ws.rows[std::size_t(p)] = e.row();
+        ws.values[std::size_t(p)] = e.value();
+    }
+    int w = 0;
+    for (int j = 0, b = ws.start[0]; j < n; ++j) {
+        const int e = ws.start[std::size_t(j) + 1];
+        for (int p = b + 1; p < e; ++p) {  // a stable insertion sort by row (columns hold a few dozen entries)
+            const int r = ws.rows[std::size_t(p)];
+            const double v = ws.values[std::size_t(p)];
+            int q = p;
+            for (; q > b && ws.rows[std::size_t(q) - 1] > r; --q) {
+                ws.rows[std::size_t(q)] = ws.rows[std::size_t(q) - 1];
+                ws.values[std::size_t(q)] = ws.values[std::size_t(q) - 1];
+            }
+            ws.rows[std::size_t(q)] = r;
+            ws.values[std::size_t(q)] = v;
+        }
+        ws.start[std::size_t(j)] = w;
+        for (int p = b; p < e; ++p) {
+            if (w > ws.start[std::size_t(j)] && ws.rows[std::size_t(w) - 1] == ws.rows[std::size_t(p)]) {
+                ws.values[std::size_t(w) - 1] += ws.values[std::size_t(p)];
+            } else {
+                ws.rows[std::size_t(w)] = ws.rows[std::size_t(p)];
+                ws.values[std::size_t(w)] = ws.values[std::size_t(p)];
+                ++w;
+            }
+        }
+        b = e;
+    }
+    ws.start[std::size_t(n)] = w;
+    out.resize(n, n);
+    out.resizeNonZeros(w);
+    std::copy(ws.start.begin(), ws.start.end(), out.outerIndexPtr());
+    std::copy(ws.rows.begin(), ws.rows.begin() + w, out.innerIndexPtr());
+    std::copy(ws.values.begin(), ws.values.begin() + w, out.valuePtr());
+}
+
 }  // namespace detail
 
 template <class D>
@@ -319,6 +375,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         SymmetricPatternLu factor;
         std::vector<int> analysedFree;  // the free unknowns factor's ordering was computed for
         std::vector<Eigen::Triplet<double>> slipTriplets;
+        detail::ColumnAssembly assembly;
+        Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
         std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
         int iterations = 0;
@@ -485,8 +543,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             bool stepFound = false;
             {
                 triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
-                Eigen::SparseMatrix<double> K(n, n);
-                K.setFromTriplets(triplets.begin(), triplets.end());  // duplicates (a body twice in a row) are summed
+                // Duplicates (a body twice in a row, a slipping contact's share) are summed.
+                detail::assembleColumns(n, triplets, K, assembly);
                 if (freeUnknown != analysedFree) {
                     factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;

@@ -52,8 +52,8 @@ struct SymmetricPatternAnalysis {
 
 /// The analyses of the patterns met recently, found again by the pattern itself (its index arrays, compared in full;
 /// a 64-bit hash only picks the candidate). Whether a pattern is found never changes a result, only its cost: an
-/// analysis is a pure function of the pattern. Bounded: nextGeneration() drops the entries not used since its last
-/// call (the world calls it once per step), and a pattern that would take the cache past maxBytes is not kept.
+/// analysis is a pure function of the pattern. Bounded: nextGeneration() (the world calls it once per step) drops the
+/// entries not used in the last few generations, and a pattern that would take the cache past maxBytes is not kept.
 class SymmetricPatternCache {
 public:
     static constexpr std::size_t kDefaultBytes = std::size_t(64) << 20;
@@ -87,10 +87,12 @@ public:
         e.bytes = size;
         bytes_ += size;
     }
-    /// Drops the entries that no find or insert used since the previous call.
+    /// Ends a generation: drops the entries that no find or insert used in it nor in the kKeepGenerations - 1 before
+    /// it (a settled pile can alternate between two faces, so a pattern may return every other step).
+    static constexpr std::uint64_t kKeepGenerations = 4;
     void nextGeneration() {
         for (auto it = entries_.begin(); it != entries_.end();) {
-            if (it->second.generation != generation_) {
+            if (generation_ - it->second.generation >= kKeepGenerations) {
                 bytes_ -= it->second.bytes;
                 it = entries_.erase(it);
             } else {
@@ -324,3 +326,4 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
 }
 
 }  // namespace unison
+

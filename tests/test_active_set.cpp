@@ -320,12 +320,16 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
     CHECK(cache.misses() == 2);
     CHECK(cache.size() == 2);
     REQUIRE(cachedLu.factorize(other));
-    cache.nextGeneration();                 // both were used in the generation that ends here
-    CHECK(cache.size() == 2);
-    cachedLu.analyzePattern(a, &cache);     // only `a` is used in the next one
+    // Only `a` is used from here on: `other` survives the end of the generation it was used in and of
+    // kKeepGenerations - 1 more, and is dropped when a kKeepGenerations-th one without it ends.
+    for (std::uint64_t g = 0; g < SymmetricPatternCache::kKeepGenerations; ++g) {
+        cache.nextGeneration();
+        CHECK(cache.size() == 2);
+        cachedLu.analyzePattern(a, &cache);
+    }
     cache.nextGeneration();
     CHECK(cache.size() == 1);
-    cachedLu.analyzePattern(other, &cache);  // dropped: analysed again
+    cachedLu.analyzePattern(other, &cache);  // analysed again
     CHECK(cache.misses() == 3);
     SymmetricPatternCache tiny(64);  // smaller than any analysis: nothing is kept, answers are unchanged
     SymmetricPatternLu tinyLu;
