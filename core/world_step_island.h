@@ -205,7 +205,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
-            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, fastOptions);
+            // Below kActiveSetNearMissContacts an uncertified answer goes to Lemke, which is cheap enough there to
+            // finish exactly, rather than being applied as a near miss.
+            ResolverOptions fastResolver = options;
+            if (nc < kActiveSetNearMissContacts) fastResolver.acceptResidual = 0.0;
+            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, fastResolver, fastOptions);
             charge(fast);
             if (usable(fast)) {
                 res = std::move(fast);
