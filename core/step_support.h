@@ -91,10 +91,6 @@ constexpr std::uint32_t kActiveSetEntry = 1u << 30;
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step
 /// against more than 15 s/step).
 constexpr int kActiveSetMinContacts = 64;
-/// Islands with fewer contacts do not apply the active-set path's near misses (best iterates within acceptResidual):
-/// Lemke finishes them exactly instead (measured: the five-level card house's cold first steps, ~100 contacts, were
-/// near misses at an absolute residual of 1.5e-3, and Lemke solves them exactly in about 2000 pivots).
-constexpr int kActiveSetNearMissContacts = 512;
 
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).

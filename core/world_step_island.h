@@ -205,11 +205,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
-            // Below kActiveSetNearMissContacts an uncertified answer goes to Lemke, which is cheap enough there to
-            // finish exactly, rather than being applied as a near miss.
-            ResolverOptions fastResolver = options;
-            if (nc < kActiveSetNearMissContacts) fastResolver.acceptResidual = 0.0;
-            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, fastResolver, fastOptions);
+            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, fastOptions);
             charge(fast);
             if (usable(fast)) {
                 res = std::move(fast);
