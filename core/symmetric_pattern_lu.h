@@ -21,6 +21,7 @@
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -59,33 +60,32 @@ public:
     static constexpr std::size_t kDefaultBytes = std::size_t(64) << 20;
     explicit SymmetricPatternCache(std::size_t maxBytes = kDefaultBytes) : maxBytes_(maxBytes) {}
 
-    std::shared_ptr<const SymmetricPatternAnalysis> find(const Eigen::SparseMatrix<double>& a) {
-        const auto it = entries_.find(hashOf(a));
-        if (it == entries_.end() || !samePattern(it->second, a)) {
-            ++misses_;
-            return nullptr;
-        }
-        ++hits_;
-        it->second.generation = generation_;
-        return it->second.analysis;
-    }
-    void insert(const Eigen::SparseMatrix<double>& a, std::shared_ptr<const SymmetricPatternAnalysis> analysis) {
+    /// The analysis of `a` (square, compressed): the one kept for its pattern, or a new one, kept when it fits.
+    std::shared_ptr<const SymmetricPatternAnalysis> analysisOf(const Eigen::SparseMatrix<double>& a) {
         const std::uint64_t key = hashOf(a);
-        const std::size_t outer = std::size_t(a.outerSize()) + 1, inner = std::size_t(a.nonZeros());
-        const std::size_t size = analysis->bytes() + sizeof(int) * (outer + inner) + sizeof(Entry);
         const auto it = entries_.find(key);
+        if (it != entries_.end() && samePattern(it->second, a)) {
+            ++hits_;
+            it->second.generation = generation_;
+            return it->second.analysis;
+        }
+        ++misses_;
+        std::shared_ptr<const SymmetricPatternAnalysis> analysis = SymmetricPatternAnalysis::of(a);
         if (it != entries_.end()) {  // a different pattern with the same hash: the newer one replaces it
             bytes_ -= it->second.bytes;
             entries_.erase(it);
         }
-        if (bytes_ + size > maxBytes_) return;
+        const std::size_t outer = std::size_t(a.outerSize()) + 1, inner = std::size_t(a.nonZeros());
+        const std::size_t size = analysis->bytes() + sizeof(int) * (outer + inner) + sizeof(Entry);
+        if (bytes_ + size > maxBytes_) return analysis;
         Entry& e = entries_[key];
         e.outer.assign(a.outerIndexPtr(), a.outerIndexPtr() + outer);
         e.inner.assign(a.innerIndexPtr(), a.innerIndexPtr() + inner);
-        e.analysis = std::move(analysis);
+        e.analysis = analysis;
         e.generation = generation_;
         e.bytes = size;
         bytes_ += size;
+        return analysis;
     }
     /// Ends a generation: drops the entries that no find or insert used in it nor in the kKeepGenerations - 1 before
     /// it (a settled pile can alternate between two faces, so a pattern may return every other step).
@@ -146,11 +146,7 @@ public:
             analyzePattern(compressed, cache);
             return;
         }
-        an_ = cache ? cache->find(a) : nullptr;
-        if (!an_) {
-            an_ = SymmetricPatternAnalysis::of(a);
-            if (cache) cache->insert(a, an_);
-        }
+        an_ = cache ? cache->analysisOf(a) : SymmetricPatternAnalysis::of(a);
         const std::size_t nnz = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
         rowIdx_.assign(nnz, 0);
         lx_.assign(nnz, 0.0);
