@@ -19,9 +19,6 @@
 //   - phase 0 (8 iterations) keeps the face of the warm start: contacts pushing stay active, contacts inside their
 //     cone stick, the rest slip, and only a separated contact that approaches faster than the tolerance joins. A
 //     resting island's face rarely changes, so this is usually 1-4 factorisations;
-//   - a warm start whose best iterate after phase 0 is within twice the tolerance ends there as a near miss: a pile's
-//     degenerate face has a residual floor near the tolerance (rim contacts sliding with their friction by rounding
-//     amounts), and the phases below rarely improve on it;
 //   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
 //     touching and sticking), with u' the velocities of the proximal sub-problem u + eps G_ii (p - centre): eps
@@ -389,10 +386,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
         // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
         constexpr int kPolish = 8, kHalvings = 3;
-        // A warm start whose face, refined by phase 0, comes within this factor of the tolerance ends there, as a
-        // near miss: on a pile's degenerate face the residual has a floor near the tolerance (rim contacts that
-        // slide with their friction by rounding amounts), and phases 1 and 2 rarely improve on such an iterate.
-        constexpr double kCloseMiss = 2.0;
         double epsRel = kEps0;
         std::vector<double> center = x, ue(x.size());
         std::vector<std::uint8_t> lastState(static_cast<std::size_t>(nc), std::uint8_t(255));
@@ -415,7 +408,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             if (settings.maxWork > 0 && work >= settings.maxWork) break;
             if (iterations >= limit) {
                 if (phase == 2) break;
-                if (phase == 0 && bestResidual <= kCloseMiss * tolAbs) break;  // a near miss at the floor
                 if (phase == 0) {
                     // The active-set iteration from the warm start.
                     phase = 1;
