@@ -87,7 +87,7 @@ public:
         bytes_ += size;
         return analysis;
     }
-    /// Ends a generation: drops the entries that no find or insert used in it nor in the kKeepGenerations - 1 before
+    /// Ends a generation: drops the entries that no analysisOf call used in it nor in the kKeepGenerations - 1 before
     /// it (a settled pile can alternate between two faces, so a pattern may return every other step).
     static constexpr std::uint64_t kKeepGenerations = 4;
     void nextGeneration() {
