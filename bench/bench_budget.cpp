@@ -11,6 +11,7 @@
 //   circlepile2000  2000 circles falling into a container (one pile)
 //   heap3d          100 cubes landing on edges and toppling into one heap (scenes::boxPile3Scene(100, true))
 //   columns3d       100 cubes landing flat in 25 columns (scenes::boxPile3Scene(100, false))
+//   drop3d          100 cubes tilted 0.3 rad dropped from up to 6.4 m, landing on corners (scenes::dropHeap3Scene)
 // Per run: p50 / p99 / worst step time (steady_clock around each step), the share of exact islands (islands with
 // contacts solved by their LCP, the rest got the bounded approximation), whether the stack stood or the heap
 // settled (deepest penetration <= 2 cm and every cube slower than 0.1 m/s at the end), the work units and the
@@ -237,7 +238,8 @@ int main(int argc, char** argv) {
                  {"circles2000", scenes::scatteredCirclesScene(2000, false), 300, 0},
                  {"circlepile2000", scenes::fallingCirclesScene(2000, false), 300, 0},
                  {"heap3d", scenes::boxPile3Scene(100, true, false), 300, 0},
-                 {"columns3d", scenes::boxPile3Scene(100, false, false), 300, 0}};
+                 {"columns3d", scenes::boxPile3Scene(100, false, false), 300, 0},
+                 {"drop3d", scenes::dropHeap3Scene(100, false), 300, 0}};
     }
     const std::vector<double> budgets = parseList(budgetList);
     std::vector<int> threads;

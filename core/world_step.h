@@ -34,6 +34,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <tuple>
 #include <type_traits>
@@ -355,7 +356,7 @@ void WorldStep<D>::findContacts(H& hooks) {
     const auto& cold = hooks.bodies().coldArray();
     struct Proxy {
         int body, shape;
-        double reach;  // how far the shape can move this step (m): dt (|v| + |w| extent)
+        double far;  // how far the shape can move this step (m): dt (|v| + |w| extent), or more (below)
     };
     // Proxies, boxes and flags in (body, shape) order, each body's at its own offset, so bodies fill them in parallel.
     const int nb = int(hot.size());
@@ -368,6 +369,7 @@ void WorldStep<D>::findContacts(H& hooks) {
     std::vector<decltype(hooks.transform(hot[0]))> xfs(hot.size());
     const double margin = def.speculativeDistance;
     const double band = hooks.speculativeBand();
+    const bool finiteBand = band < std::numeric_limits<double>::infinity();
     const double dt = 1.0 / def.hz;
     // Relative normal speed of two bodies at a point (A minus B along n; < 0 when closing), before the solve.
     auto closingSpeed = [](const auto& sa, const auto& sb, const Vec& p, const Vec& n) {
@@ -385,18 +387,24 @@ void WorldStep<D>::findContacts(H& hooks) {
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
             // fast bodies sink deep before they are seen (and position correction then adds energy). Static bodies
             // do not move (and a 3D plane's box is unbounded).
-            double reach = 0.0;
+            // With a finite band (3D), the reach also covers what the solve can do to the shape's motion: a cube
+            // that lands on one corner turns about it, and its next corners then close faster than any point moved
+            // before the solve. hooks.speedBound is the fastest any point within `extent` of the centre can move
+            // with the body's present kinetic energy, which contacts do not add to. (The 2D world keeps every
+            // point within the reach in the LCP, so there a larger reach would only grow islands.)
+            double reach = 0.0, far = 0.0;
             if (!world_step_detail::isStatic(info)) {
                 const Vec half = D::scale(0.5, D::sub(box.upper, box.lower));
                 const Vec mid = D::scale(0.5, D::add(box.upper, box.lower));
                 const double extent = length(half) + length(D::sub(mid, st.center));
                 reach = dt * (length(st.velocity) + D::angNorm(st.angularVelocity) * extent);
+                far = finiteBand ? std::max(reach, dt * hooks.speedBound(st, info, extent)) : reach;
             }
-            const double grow = margin + reach;
+            const double grow = margin + far;
             box.lower = D::sub(box.lower, D::uniform(grow));
             box.upper = D::add(box.upper, D::uniform(grow));
             const std::size_t k = std::size_t(first[std::size_t(d)] + s);
-            proxies[k] = {d, s, reach};
+            proxies[k] = {d, s, far};
             boxes[k] = box;
             inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
@@ -422,18 +430,23 @@ void WorldStep<D>::findContacts(H& hooks) {
         const auto& shA = cold[std::size_t(pa.body)].shapes[std::size_t(pa.shape)];
         const auto& shB = cold[std::size_t(pb.body)].shapes[std::size_t(pb.shape)];
         const Manifold m = hooks.narrowphase(shA, xfs[std::size_t(pa.body)], shB, xfs[std::size_t(pb.body)],
-                                             margin + pa.reach + pb.reach, worker.collide);
+                                             margin + pa.far + pb.far, worker.collide);
         pairWork[std::size_t(i)] = hooks.pairWork(shA, shB, m);
-        int kept = 0;
-        for (int k = 0; k < m.count; ++k) {
+        // A gap that the bodies' present motion cannot bring within `band` this step stays out of the LCP: it adds
+        // no rows and joins no islands (the isotropic reach above finds such points for fast bodies, and resting
+        // neighbours 1-2 cm apart would otherwise fuse separate stacks into one big island). But once one point of
+        // the pair is in, the pair's island is joined anyway, and every point of its manifold (all within the
+        // bodies' `far`) enters with it: the solve that stops that point turns the bodies about it.
+        bool pairIn = false;
+        for (int k = 0; k < m.count && !pairIn; ++k) {
             const auto& mp = m.points[std::size_t(k)];
-            // A gap that the bodies' present motion cannot bring within `band` this step stays out of the LCP:
-            // it adds no rows and joins no islands (the isotropic reach above finds such points for fast bodies,
-            // and resting neighbours 1-2 cm apart would otherwise fuse separate stacks into one big island).
-            if (mp.separation > 0.0 &&
-                mp.separation + dt * std::min(0.0, closingSpeed(hot[std::size_t(pa.body)], hot[std::size_t(pb.body)],
-                                                                 mp.point, hooks.normalOf(m, k))) >= band)
-                continue;
+            pairIn = mp.separation <= 0.0 ||
+                     mp.separation + dt * std::min(0.0, closingSpeed(hot[std::size_t(pa.body)], hot[std::size_t(pb.body)],
+                                                                      mp.point, hooks.normalOf(m, k))) < band;
+        }
+        int kept = 0;
+        for (int k = 0; pairIn && k < m.count; ++k) {
+            const auto& mp = m.points[std::size_t(k)];
             StepContact<D>& c = slots[std::size_t(i) * kSlots + std::size_t(kept++)];
             c = StepContact<D>{};
             c.point = mp.point;

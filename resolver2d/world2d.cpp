@@ -87,6 +87,12 @@ struct World2::Hooks {
     /// 2D keeps every speculative point the narrowphase returns (its targets were measured that way).
     double speculativeBand() const { return std::numeric_limits<double>::infinity(); }
     double worldInvInertia(const BodyState2& s, const BodyInfo2& info) const { return World2::worldInvInertia(s, info); }
+    /// The fastest a point within `extent` of the centre can move with the body's kinetic energy (see World3's);
+    /// the step asks only with a finite speculativeBand(), so the 2D world never does.
+    double speedBound(const BodyState2& s, const BodyInfo2& info, double extent) const {
+        const double twiceEnergy = info.mass * Dim2::dot(s.velocity, s.velocity) + info.inertia * s.angularVelocity * s.angularVelocity;
+        return std::sqrt(std::max(0.0, twiceEnergy) * (info.invMass + extent * extent * info.invInertia));
+    }
 
     void integrate(int d, Vec2 v, double w, double dt) {
         BodyState2& s = world.mBodies.hot(d);

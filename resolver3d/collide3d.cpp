@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <tuple>
 #include <cmath>
 
 namespace unison {
@@ -366,6 +367,28 @@ Manifold3 polyPoly(const Shape3& a, const Transform3& xfA, const Shape3& b, cons
         m.candidates = 1;
         m.points[0] = {mid, neg(eq.axis), eq.sep, convexId(kEdges, eq.ea, eq.eb, 0)};
         if (outCandidates) outCandidates->push_back(m.points[0]);
+        // The best faces' points within the margin come too: a body that lands on an edge turns about it, and the
+        // corners of its face then close faster than anything moved before the step (the edge point alone let
+        // a tilted cube's next corner sink 4-12 cm into the heap below). They keep their own normals and ids. The
+        // farthest from the edge point come first; one within kTouchBand of it repeats it and is left out.
+        const Manifold3 faces = fb.sep > fa.sep + 0.5 * kTol ? clipFaces(B, fb.face, A, true, margin, outCandidates)
+                                                             : clipFaces(A, fa.face, B, false, margin, outCandidates);
+        m.candidates += faces.candidates;
+        std::array<bool, 4> used{};
+        while (m.count < int(m.points.size())) {
+            int best = -1;
+            double bestD = kTouchBand * kTouchBand;
+            for (int k = 0; k < faces.count; ++k) {
+                const Vec3 d = D3::sub(faces.points[std::size_t(k)].point, mid);
+                if (!used[std::size_t(k)] && D3::dot(d, d) > bestD) {
+                    bestD = D3::dot(d, d);
+                    best = k;
+                }
+            }
+            if (best < 0) break;
+            used[std::size_t(best)] = true;
+            m.points[std::size_t(m.count++)] = faces.points[std::size_t(best)];
+        }
         return m;
     }
     if (fb.sep > fa.sep + 0.5 * kTol) return clipFaces(B, fb.face, A, true, margin, outCandidates);
@@ -437,15 +460,16 @@ std::vector<ManifoldPoint3> reduceToFour(const std::vector<ManifoldPoint3>& c) {
     for (int i = 1; i < n; ++i)
         if (c[std::size_t(i)].separation < c[std::size_t(i0)].separation) i0 = i;
     const Vec3 p0 = c[std::size_t(i0)].point;
-    // Only points that touch (overlap) or lie within kTouchBand of the deepest one may span the area: a speculative
-    // point 2 cm away would span a support polygon that does not hold anything yet, and the body would rock on the
-    // one or two points that do.
+    // Points that touch (overlap) or lie within kTouchBand of the deepest one span the area first: with four
+    // slots spent on speculative points 2 cm away, a resting body would rock on the one or two that hold it. A
+    // slot they leave (one touching corner, or an edge) goes to the speculative points: a cube that lands on a
+    // corner or an edge turns about it, and its next corners must be in the LCP before they close.
     const double limit = std::max(0.0, c[std::size_t(i0)].separation + kTouchBand);
-    auto argmax = [&](auto score) {
+    auto argmax = [&](auto score, bool touching) {
         int best = i0;
         double bestS = -1e300;
         for (int i = 0; i < n; ++i) {
-            if (c[std::size_t(i)].separation > limit) continue;
+            if (touching && c[std::size_t(i)].separation > limit) continue;
             const double s = score(c[std::size_t(i)]);
             if (s > bestS) {
                 bestS = s;
@@ -454,23 +478,29 @@ std::vector<ManifoldPoint3> reduceToFour(const std::vector<ManifoldPoint3>& c) {
         }
         return std::make_pair(best, bestS);
     };
-    const auto [i1, d1] = argmax([&](const ManifoldPoint3& p) {
+    auto far = [&](const ManifoldPoint3& p) {
         const Vec3 d = D3::sub(p.point, p0);
         return D3::dot(d, d);
-    });
+    };
+    auto [i1, d1] = argmax(far, true);
+    if (!(d1 > 0.0)) std::tie(i1, d1) = argmax(far, false);
     std::vector<ManifoldPoint3> out{c[std::size_t(i0)]};
     if (!(d1 > 0.0)) return out;
     out.push_back(c[std::size_t(i1)]);
     const Vec3 p1 = c[std::size_t(i1)].point;
     auto area = [](const Vec3& a, const Vec3& b, const Vec3& x) { return norm(D3::cross(D3::sub(b, a), D3::sub(x, a))); };
-    const auto [i2, a2] = argmax([&](const ManifoldPoint3& p) { return area(p0, p1, p.point); });
+    auto spread = [&](const ManifoldPoint3& p) { return area(p0, p1, p.point); };
+    auto [i2, a2] = argmax(spread, true);
+    if (!(a2 > 0.0)) std::tie(i2, a2) = argmax(spread, false);
     if (!(a2 > 0.0)) return out;
     out.push_back(c[std::size_t(i2)]);
     const Vec3 p2 = c[std::size_t(i2)].point;
     // The point outside the triangle by the most: the three sub-triangles add up to more than the triangle.
-    const auto [i3, a3] = argmax([&](const ManifoldPoint3& p) {
+    auto outside = [&](const ManifoldPoint3& p) {
         return area(p0, p1, p.point) + area(p1, p2, p.point) + area(p2, p0, p.point);
-    });
+    };
+    auto [i3, a3] = argmax(outside, true);
+    if (!(a3 > a2 * (1.0 + 1e-9))) std::tie(i3, a3) = argmax(outside, false);
     if (a3 > a2 * (1.0 + 1e-9)) out.push_back(c[std::size_t(i3)]);
     return out;
 }

@@ -93,6 +93,20 @@ struct World3::Hooks {
     int frictionPivotsPerUnknown() const { return 2; }
     double speculativeBand() const { return world.mDef.speculativeBand; }
     Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info) const { return World3::worldInvInertia(s, info); }
+    /// The fastest a point within `extent` of the centre can move with the body's kinetic energy E: the largest
+    /// |v + w x r| with m |v|^2 + w^T I w <= 2E and |r| <= extent is sqrt(2E (1/m + extent^2 / I_min)) (Cauchy-
+    /// Schwarz), and 1 / I_min is at most the largest absolute row sum of the inverse inertia (Gershgorin; exact for
+    /// a diagonal tensor).
+    double speedBound(const BodyState3& s, const BodyInfo3& info, double extent) const {
+        const Vec3 wBody = mulT(toMatrix(s.rotation), s.angularVelocity);
+        const double twiceEnergy = info.mass * D3::dot(s.velocity, s.velocity) + D3::dot(wBody, mul(info.inertia, wBody));
+        double invInertiaMax = 0.0;
+        for (int i = 0; i < 3; ++i) {
+            const double row = std::fabs(info.invInertia(i, 0)) + std::fabs(info.invInertia(i, 1)) + std::fabs(info.invInertia(i, 2));
+            invInertiaMax = std::max(invInertiaMax, row);
+        }
+        return std::sqrt(std::max(0.0, twiceEnergy) * (info.invMass + extent * extent * invInertiaMax));
+    }
 
     void integrate(int d, const Vec3& v, const Vec3& w, double dt) {
         BodyState3& s = world.mBodies.hot(d);

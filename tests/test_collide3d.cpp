@@ -72,6 +72,34 @@ TEST_CASE("edge against edge: crossed boxes touch at one point") {
     CHECK(m.points[0].point.isApprox(Vec3(0, h - 0.005, 0), 1e-9));
 }
 
+TEST_CASE("edge against edge with a wide margin: the edge point, then the best face's corners within the margin") {
+    // A's lowest edge (A turned 0.3 rad about x) crosses B's highest edge (B turned 0.3 rad about z), 5 mm deep.
+    const Shape3 a = box(0.25), b = box(0.25);
+    const Transform3 xfA = at(Vec3(0, 0.62, 0), axisAngle(Vec3(1, 0, 0), 0.3));
+    const Transform3 xfB = at(Vec3::Zero(), axisAngle(Vec3(0, 0, 1), 0.3));
+    // Within 2 cm only the crossing itself: the face corner at the same place repeats the edge point.
+    const Manifold3 near = collide(a, xfA, b, xfB, 0.02);
+    REQUIRE(near.count == 1);
+    CHECK((near.points[0].id >> 28) == 4u);  // edge against edge
+    CHECK(near.points[0].normal.isApprox(Vec3(0, 1, 0), 1e-9));
+    // Within 30 cm (a fast body's reach) the corners that A turns onto when it lands on the edge come too, with
+    // the face's normal; the edge point stays first.
+    const Manifold3 wide = collide(a, xfA, b, xfB, 0.3);
+    REQUIRE(wide.count == 4);
+    CHECK(wide.points[0].id == near.points[0].id);
+    CHECK(wide.points[0].separation == near.points[0].separation);
+    for (int i = 1; i < 4; ++i) {
+        const ManifoldPoint3& p = wide.points[std::size_t(i)];
+        CHECK((p.id >> 28) != 4u);
+        CHECK(p.separation > 0.05);
+        CHECK(p.separation < 0.3);
+        CHECK(std::fabs(p.normal.norm() - 1.0) < 1e-12);
+        CHECK(p.normal.dot(Vec3(0, 1, 0)) > 0.9);
+        CHECK((p.point - wide.points[0].point).norm() > 0.1);
+        for (int j = 0; j < i; ++j) CHECK(p.id != wide.points[std::size_t(j)].id);
+    }
+}
+
 TEST_CASE("spheres: sphere-sphere and sphere-box (face, edge) distances") {
     Shape3 s1, s2;
     REQUIRE(makeSphere(Vec3::Zero(), 0.5, &s1).empty());
@@ -103,6 +131,30 @@ TEST_CASE("reduceToFour keeps the deepest point and spans the largest area") {
         const Vec3& p = r[i].point;
         CHECK(((p.x() == 0 || p.x() == 4) && (p.z() == 0 || p.z() == 4)));
     }
+}
+
+TEST_CASE("reduceToFour: touching points span first; the slots they leave go to speculative points") {
+    // One corner touches and the face's other corners are 5-25 cm away (a tilted cube landing on a corner): all of
+    // them are kept, the touching one first, since the cube turns onto them.
+    std::vector<ManifoldPoint3> corner;
+    corner.push_back({Vec3(0, 0, 0), Vec3::UnitY(), -0.001, 1});
+    corner.push_back({Vec3(0.5, 0, 0), Vec3::UnitY(), 0.05, 2});
+    corner.push_back({Vec3(0, 0, 0.5), Vec3::UnitY(), 0.10, 3});
+    corner.push_back({Vec3(0.5, 0, 0.5), Vec3::UnitY(), 0.25, 4});
+    corner.push_back({Vec3(0.25, 0, 0.25), Vec3::UnitY(), 0.12, 5});  // inside: spans nothing
+    const auto r = reduceToFour(corner);
+    REQUIRE(r.size() == 4);
+    CHECK(r[0].id == 1);
+    for (std::size_t i = 1; i < 4; ++i) CHECK(r[i].id != 5);
+    // Five touching points and two speculative ones farther out: the four kept all touch (with speculative
+    // points spanning, a resting body would rock on the one or two that hold it).
+    std::vector<ManifoldPoint3> rest;
+    for (int i = 0; i < 5; ++i) rest.push_back({Vec3(0.1 * i, 0, 0.05 * (i % 2)), Vec3::UnitY(), -0.002, std::uint32_t(10 + i)});
+    rest.push_back({Vec3(2, 0, 2), Vec3::UnitY(), 0.02, 20});
+    rest.push_back({Vec3(-2, 0, 2), Vec3::UnitY(), 0.03, 21});
+    const auto k = reduceToFour(rest);
+    REQUIRE(k.size() == 4);
+    for (const ManifoldPoint3& p : k) CHECK(p.separation < 0.0);
 }
 
 TEST_CASE("a CollideBatch reuses placements without changing a bit; a new batch forgets the old shapes") {

@@ -42,11 +42,11 @@ const Golden kGolden[] = {
     {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
     {"pyramid16", 120, 0x97dc8806fb0140a4ull, 0xa11e17b0007ed425ull},
     {"large_pyramid24", 30, 0xb78e29bed505b7abull, 0x8f28dd27e8abe96full},
-    {"box_heap3d", 180, 0x1bf981982f0688a9ull, 0x29ea3be7140a0534ull},
+    {"box_heap3d", 180, 0xb7c77e83c4a1aadbull, 0xbd4a1d7c999ba77cull},
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
-    {"bunnies3d", 240, 0xa34e28d8540fe337ull, 0xcf9c4a1fa9a4066eull},
+    {"bunnies3d", 240, 0x8e2b01043affc298ull, 0xf8ed5214d76f3ddcull},
     {"pyramid16_budget", 120, 0x061037aae206169eull, 0x0b8633dab1e0b5f1ull},
-    {"box_heap3d_budget", 180, 0xc36482a6d4ffe5d1ull, 0xe6fb6de3e755653full},
+    {"box_heap3d_budget", 180, 0xdebc52dddc7f5e98ull, 0x8d5046f63303fd00ull},
 };
 // ==================================================================================================================
 

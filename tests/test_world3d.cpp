@@ -6,6 +6,7 @@
 #include "make_scenes3d.h"
 #include "resolver3d.h"
 #include "scene_json3d.h"
+#include "step_budget.h"
 #include "world3d.h"
 
 #include <algorithm>
@@ -427,6 +428,27 @@ TEST_CASE("speculative band: resting neighbours 1.5 cm apart stay separate islan
     CHECK(world.state(cube)->velocity.x() <= 1e-9);
 }
 
+TEST_CASE("tilted cubes dropped onto a heap: the corners they turn onto are in the LCP before they close") {
+    // scenes::dropHeap3Scene: cubes turned 0.3 rad land on corners and edges of the layer below at 3-6 m/s and
+    // turn onto their next corners within a step. Those corners must already be contact points: the narrowphase
+    // adds a face's corners to an edge-edge point, keeps speculative corners where the touching points leave slots,
+    // and reaches as far as the body's kinetic energy can carry a corner (WorldStep's speedBound). Without them
+    // the deepest overlap was 41 mm (two layers, exact) and 94 mm (four layers, 2 ms budget).
+    auto deepest = [](int cubes, double budgetMs) {
+        WorldDef3 def;
+        def.stepBudget = budgetMs > 0.0 ? workUnitsFromMilliseconds(budgetMs) : 0;
+        scenes::LoadedScene3 heap = scenes::loadScene3(scenes::dropHeap3Scene(cubes, false), "drop heap", "", def);
+        double pen = 0.0;
+        for (int i = 0; i < 300; ++i) {
+            heap.world->step();
+            pen = std::max(pen, heap.world->stats().maxPenetration);
+        }
+        return pen;
+    };
+    CHECK(deepest(50, 0.0) <= 0.02);
+    CHECK(deepest(100, 2.0) <= 0.02);
+}
+
 TEST_CASE("invalid bodies are rejected with a message and the world is unchanged") {
     World3 world;
     std::string error;
@@ -462,7 +484,7 @@ TEST_CASE("determinism: two runs give the same hash every step; the golden hash 
         REQUIRE(a.stateHash() == b.stateHash());
     }
     CHECK(a.stats().failedIslands == 0);
-    CHECK(a.stateHash() == 0xd77753c48a53d7d6ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
+    CHECK(a.stateHash() == 0x4f1d3e0080785947ull);  // gcc 12 -O2 x86-64 (state format of world3d_state.cpp); cross-build: the 3D golden scenes
 }
 
 TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide off both ramps and rest on the ground") {
@@ -494,7 +516,7 @@ TEST_CASE("sphere-tree meshes: a mesh cube lands like a box; the bunnies slide o
         CHECK(s.center.y() > 0.05);
         CHECK(s.velocity.norm() < 0.05);
     }
-    CHECK(loaded.world->stateHash() == 0xeee0066ddcc8b6a5ull);  // golden: the mesh path too (gcc 12 -O2; see above)
+    CHECK(loaded.world->stateHash() == 0x9ce7c4fa03fd4f16ull);  // golden: the mesh path too (gcc 12 -O2; see above)
 }
 
 TEST_CASE("events: a bouncing ball begins touching the ground once and ends once; bad velocities are refused") {
