@@ -116,6 +116,8 @@ struct StepControl {
 ///   frictionPivotsPerUnknown()     c of the friction LCP's pivot cap c n + 100 (n unknowns) when def().lcp.maxPivots is 0
 ///   speculativeBand()              a point with separation s > 0 and closing speed u (< 0 closing) enters the LCP
 ///                                  only when s + dt min(u, 0) < band (WorldDef3::speculativeBand; infinity: all)
+///   speedBound(state, info, extent)  the fastest a point within `extent` of the centre can move with the body's
+///                                  kinetic energy (asked only when the band is finite; it widens the reach)
 ///   transform(state)               the body's placement, as computeAabb() and narrowphase() take it
 ///   narrowphase(shapeA, xfA, shapeB, xfB, distance, stats)
 ///                                  the manifold of points with separation < distance: count, points[k] with
