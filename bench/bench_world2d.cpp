@@ -484,6 +484,8 @@ std::vector<SceneSpec> makeScenes(bool quick, double settle, double standSeconds
     // Budgets are seconds of step time per engine, each at least what the scene's target needs (e.g. 600 steps at
     // 100 ms); their sum, with the kill limit of a step that overruns, bounds a default run to about 8 minutes.
     s.push_back(testbedPyramid("pyramid20", "Box2D testbed pyramid, 20 rows (210 boxes)", 20, 300, 20.0, settle));
+    // The same pyramid left standing for 40 s: what a settled pile costs per step later on (summary: "settled cost").
+    s.push_back(testbedPyramid("pyramid20_long", "Box2D testbed pyramid, 20 rows, 40 s", 20, 2400, 30.0, settle));
     s.push_back(testbedPyramid("pyramid30", "testbed layout, 30 rows (465 boxes)", 30, 300, 30.0, settle));
     {
         SceneSpec p40 = testbedPyramid("pyramid40", "testbed layout, 40 rows (820 boxes)", 40, 300, 60.0, settle);
@@ -630,6 +632,29 @@ struct Summary {
         meanTarget("v3_pyramids20x20: <= 100 ms/step (600 steps)", "v3_pyramids20x20", 0, 600, 100.0);
         standTarget("v3_arch (no target; Box2D v3's arch sags):", "v3_arch", false);
         standTarget("v3_vstack (no target):", "v3_vstack", false);
+        for (const Row& r : rows) settledCost(r);
+    }
+
+    // A scene that stands (sleeping off) should cost per step later what it costs once settled: the mean step time
+    // over one second at 10 s, 20 s and at the end of the run against the one at 2 s (steps 90-150), within
+    // kSettledCostSlack (machine noise). Scenes that ran at least 630 steps.
+    static constexpr double kSettledCostSlack = 1.5;
+    void settledCost(const Row& r) const {
+        if (r.spec->judge != Judge::stands || r.unison.steps < 630) return;
+        const EngineRun& u = r.unison;
+        const double at2 = u.windowMs(90, 150);
+        std::string detail = fmt("2 s %.2f ms", at2);
+        bool ok = at2 > 0.0;
+        auto check = [&](const char* label, int from, int to) {
+            const double w = u.windowMs(from, to);
+            if (w < 0.0) return;
+            detail += std::string(", ") + label + fmt(" %.2f ms", w) + fmt(" (%.2fx)", at2 > 0.0 ? w / at2 : 0.0);
+            ok = ok && w <= kSettledCostSlack * at2;
+        };
+        check("10 s", 570, 630);
+        if (u.steps >= 1230) check("20 s", 1170, 1230);
+        if (u.steps >= 690) check(fmt("end (%.0f s)", u.steps / 60.0).c_str(), u.steps - 60, u.steps);
+        line(r.spec->name + fmt(": settled cost later <= %.1fx that at 2 s", kSettledCostSlack), ok ? "PASS" : "FAIL", detail);
     }
 };
 
