@@ -186,7 +186,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const std::uint64_t guess = inWarm ? std::uint64_t(inWarm->size()) : 0;
         const std::uint64_t firstFactor = guess > 0 ? guess * guess + (kDirs + 2) * std::uint64_t(nc) : 0;
         options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : pivotsPerUnknown * (k + 2) * nc + 100;
-        if (!limitFor(world_step_detail::assemblyWork(frictionRows), firstFactor, (kDirs + 2) * std::uint64_t(nc)))
+        // One 2D contact: resolveWithFriction's closed form, which assembles nothing (charged the rest of an
+        // assembly below if it hands over to Lemke).
+        const bool closedForm = D::kDim == 2 && nc == 1;
+        const std::uint64_t assembly = world_step_detail::assemblyWork(frictionRows);
+        if (!limitFor(closedForm ? work::kClosedFormIsland : assembly, firstFactor, (kDirs + 2) * std::uint64_t(nc)))
             return res;
         options.lcp.warmBasis = inWarm && !inWarm->empty() ? inWarm : nullptr;
         bool done = false;
@@ -216,6 +220,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done) {
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             charge(res);
+            if (closedForm && !res.fastPath && assembly > work::kClosedFormIsland) spent += assembly - work::kClosedFormIsland;
         }
         if (options.lcp.warmBasis) {
             if (!res.warmStarted) ++stats.discardedGuesses;

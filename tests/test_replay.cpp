@@ -37,8 +37,8 @@ struct Golden {
 };
 const Golden kGolden[] = {
     {"pyramid", 240, 0x085a7ed7fab6d90cull, 0x1506bfbb62aaf127ull},
-    {"restitution_row", 240, 0x2c7c75387bcddef0ull, 0x4dbc3e0959dfa0f2ull},
-    {"mixed_pile", 300, 0x90f88d1bb15c3bacull, 0x1fae36e182c38077ull},
+    {"restitution_row", 240, 0xe75237c06f434b0dull, 0xa469a525b025814dull},
+    {"mixed_pile", 300, 0xba4b87bed65e12b5ull, 0x2034156a922b83bcull},
     {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
     {"pyramid16", 120, 0x97dc8806fb0140a4ull, 0xa11e17b0007ed425ull},
     {"large_pyramid24", 30, 0xb78e29bed505b7abull, 0x8f28dd27e8abe96full},

@@ -287,6 +287,88 @@ TEST_CASE("single-contact fast path agrees with the LCP solve") {
     }
 }
 
+TEST_CASE("single 2D contact with friction: the closed form agrees with Lemke on the assembled LCP") {
+    // Random pairs of spinning bodies (and bodies on static ground) with random normals, friction, restitution and
+    // position bias: every case of the closed form (separating, sticking, slipping either way) is met.
+    LemkeSolver solver;
+    std::uint64_t state = 11;
+    auto rnd = [&]() {  // deterministic LCG in [-1, 1)
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return double(state >> 11) / double(1ULL << 52) - 1.0;
+    };
+    int separated = 0, stuck = 0, slipped = 0, ambiguous = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        CAPTURE(trial);
+        Body2 a = ball2(0.5 + std::fabs(rnd()), 0.3, {rnd(), rnd()}, {2.0 * rnd(), 2.0 * rnd()});
+        a.angularVelocity = 3.0 * rnd();
+        Body2 b = trial % 3 == 0 ? ground2() : ball2(0.5 + std::fabs(rnd()), 0.4, {rnd(), rnd()}, {rnd(), rnd()});
+        b.angularVelocity = trial % 3 == 0 ? 0.0 : rnd();
+        const double ang = rnd() * 3.2;
+        Contact2 c = node2(0, 1, {rnd(), rnd()}, {std::cos(ang), std::sin(ang)}, trial % 2 ? 0.0 : 0.5 * (rnd() + 1.0));
+        c.friction = 0.8 * (rnd() + 1.0);
+        c.bias = 0.1 * rnd();
+        ResolverOptions options;
+        options.frictionDirections = 2;
+        std::vector<Body2> fast{a, b};
+        const Resolution rf = resolveWithFriction(fast, {c}, options, solver);
+        REQUIRE(rf.status == LcpStatus::solved);
+        CHECK(rf.fastPath);
+        CHECK(rf.pivots == 0);
+        CHECK(rf.scaledResidual <= options.lcp.residualTolerance);
+        // The answer solves the assembled LCP (z = p_n, beta+, beta-, lambda; lambda as the LCP needs it).
+        FrictionLayout layout;
+        const Lcp lcp = assembleFrictionLcp(std::vector<Body2>{a, b}, {c}, options, &layout);
+        const Vec2 t = Dim2::tangentDirection(c.normal, 0, 2);
+        const Vec2 ft{rf.tangentImpulses[0], rf.tangentImpulses[1]};
+        CHECK(std::fabs(dot(ft, c.normal)) <= 1e-15);
+        const double pf = dot(ft, t);
+        std::vector<double> z{rf.impulses[0], std::max(pf, 0.0), std::max(-pf, 0.0), 0.0};
+        double ut = lcp.b[1];
+        for (int j = 0; j < 3; ++j) ut += lcp.at(1, j) * z[std::size_t(j)];
+        z[3] = z[0] > 0.0 && std::fabs(pf) < c.friction * z[0] * (1.0 - 1e-12) ? 0.0 : std::fabs(ut);
+        std::vector<double> w(4, 0.0);
+        double scale = 1.0;
+        for (int i = 0; i < 4; ++i) {
+            w[std::size_t(i)] = lcp.b[std::size_t(i)];
+            scale = std::max(scale, std::fabs(lcp.b[std::size_t(i)]));
+            for (int j = 0; j < 4; ++j) {
+                w[std::size_t(i)] += lcp.at(i, j) * z[std::size_t(j)];
+                scale = std::max(scale, std::fabs(lcp.at(i, j)));
+            }
+        }
+        CHECK(complementarityResidual(z, w) <= 1e-9 * scale);
+        // Lemke on the same LCP. With mu |a_nt| < a_nn (the slipping normal equation is regular both ways) the
+        // answer is unique in p_n and p_t and the two agree; beyond it a frictional contact can have two answers
+        // (for a separating one, also none at all), and the closed form takes the first case that holds.
+        const LcpResult rl = solver.solve(lcp);
+        REQUIRE(rl.status == LcpStatus::solved);
+        const double pn = rl.z[0], pt = rl.z[1] - rl.z[2];
+        if (c.friction * std::fabs(lcp.at(0, 1)) >= lcp.at(0, 0)) {
+            ++ambiguous;
+            continue;
+        }
+        CHECK(rf.impulses[0] == doctest::Approx(pn).epsilon(1e-9));
+        CHECK(pf == doctest::Approx(pt).epsilon(1e-9));
+        // Applied to the bodies as Lemke's answer would be.
+        std::vector<Body2> slow{a, b};
+        std::vector<Vec2> tangent{pt * t};
+        applyImpulses(slow, {c}, {pn}, &tangent);
+        for (int k = 0; k < 2; ++k) {
+            CHECK(fast[std::size_t(k)].velocity.x == doctest::Approx(slow[std::size_t(k)].velocity.x).epsilon(1e-9));
+            CHECK(fast[std::size_t(k)].velocity.y == doctest::Approx(slow[std::size_t(k)].velocity.y).epsilon(1e-9));
+            CHECK(fast[std::size_t(k)].angularVelocity == doctest::Approx(slow[std::size_t(k)].angularVelocity).epsilon(1e-9));
+        }
+        if (pn == 0.0) ++separated;
+        else if (std::fabs(pt) < c.friction * pn * (1.0 - 1e-12)) ++stuck;
+        else ++slipped;
+    }
+    CHECK(separated > 20);
+    CHECK(stuck > 20);
+    CHECK(slipped > 20);
+    CHECK(separated + stuck + slipped + ambiguous == 400);
+    CHECK(ambiguous < 100);  // the rest (300+) compared with Lemke
+}
+
 TEST_CASE("A is symmetric J M^-1 J^T: eq. (20) for nodes sharing one or two bodies") {
     // Three boxes in an L: node 0 and 1 share both bodies, node 2 shares only body 1 with them.
     std::vector<Body2> bodies{ball2(2.0, 0.4, {0.0, 0.0}, {0.1, 1.0}), ball2(1.0, 0.7, {0.2, 1.0}, {0.0, 0.0}),
