@@ -7,17 +7,28 @@ namespace unison {
 
 namespace {
 
-/// How long a thread watches for work (or for a task's end) before it sleeps. Not part of any result.
-constexpr std::chrono::microseconds kSpinTime{300};
+// A spin-wait hint to the CPU. A yield to the scheduler in the loop instead (a system call each time) made the other
+// thread's serial work of a step up to 4x slower on a 2-CPU virtual machine: 2000 resting circles stepped in
+// 0.9-1.25 ms on 2 threads against 0.85 on one; with the hint, 0.62-0.67.
+inline void cpuRelax() {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#elif defined(__aarch64__)
+    asm volatile("yield");
+#endif
+}
 
-/// Calls done() until it is true or kSpinTime has passed, yielding in between; true when done() was.
+/// How long a thread watches for work (or for a task's end) before it sleeps. Not part of any result.
+constexpr std::chrono::microseconds kSpinTime{50};
+
+/// Calls done() until it is true or kSpinTime has passed, with a CPU pause in between; true when done() was.
 template <class Done>
 bool spinUntil(Done done) {
     const auto deadline = std::chrono::steady_clock::now() + kSpinTime;
     for (int i = 1;; ++i) {
         if (done()) return true;
         if (i % 32 == 0 && std::chrono::steady_clock::now() >= deadline) return false;
-        std::this_thread::yield();
+        cpuRelax();
     }
 }
 
