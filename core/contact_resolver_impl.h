@@ -608,7 +608,7 @@ Resolution resolveCollisions(std::vector<ResolverBody<D>>& ioBodies, const std::
 
 namespace detail {
 
-// The friction LCP of one 2D contact (unknowns p_n, beta+, beta-, lambda) in closed form, the friction extension of the
+// The friction LCP of the one 2D contact of `contacts` (unknowns p_n, beta+, beta-, lambda) in closed form, the friction extension of the
 // paper's single-point formula: with a = J M^-1 J^T of its normal and tangent rows and b their right-hand sides (as
 // buildFrictionSystem), the contact separates (b_n >= 0: no impulse, lambda = |b_t|), sticks (a p = -b with p_n >= 0
 // and |p_t| <= mu p_n) or slips with p_t = s mu p_n, s = +-1 (p_n = -b_n / (a_nn + s mu a_nt) > 0 and the sliding
@@ -616,8 +616,9 @@ namespace detail {
 // then checked on the whole 4 x 4 LCP with the rule of every Lemke answer (scaled residual <= tolerance). False, and
 // the bodies untouched, when no case holds or the check fails (the caller goes on with Lemke).
 template <class D>
-bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const ResolverOptions& options,
-                           Resolution& out) {
+bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
+                           const ResolverOptions& options, Resolution& out) {
+    const ContactNode<D>& c = contacts[0];
     const typename D::Vec t = D::tangentDirection(c.normal, 0, 2);
     const JacobianRow<D> rows[2] = {makeRow(bodies, c, c.normal), makeRow(bodies, c, t)};
     double a[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
@@ -693,7 +694,7 @@ bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const ContactNo
     out.tangentImpulses.clear();
     for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(ft[d]);
     const std::vector<typename D::Vec> tangent(1, ft);
-    applyImpulses(bodies, std::vector<ContactNode<D>>(1, c), out.impulses, &tangent);
+    applyImpulses(bodies, contacts, out.impulses, &tangent);
     return true;
 }
 
@@ -706,7 +707,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
     if constexpr (D::kDim == 2) {
-        if (contacts.size() == 1 && detail::singleContactFriction(ioBodies, contacts[0], options, out)) return out;
+        if (contacts.size() == 1 && detail::singleContactFriction(ioBodies, contacts, options, out)) return out;
     }
     detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, options);
     const FrictionLayout layout = sys.layout;

@@ -66,6 +66,15 @@ std::vector<Contact2> cradleContacts(int n, double e) {
     return contacts;
 }
 
+// Deterministic LCG giving doubles in [-1, 1).
+struct Lcg {
+    std::uint64_t state;
+    double operator()() {
+        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+        return double(state >> 11) / double(1ULL << 52) - 1.0;
+    }
+};
+
 }  // namespace
 
 TEST_SUITE("resolver") {
@@ -263,11 +272,7 @@ TEST_CASE("tilted cube landing on one corner agrees with the single-point closed
 
 TEST_CASE("single-contact fast path agrees with the LCP solve") {
     LemkeSolver solver;
-    std::uint64_t state = 7;
-    auto rnd = [&]() {  // deterministic LCG in [-1, 1)
-        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-        return double(state >> 11) / double(1ULL << 52) - 1.0;
-    };
+    Lcg rnd{7};
     for (int trial = 0; trial < 200; ++trial) {
         Body2 a = ball2(0.5 + std::fabs(rnd()), 0.3, {rnd(), rnd()}, {rnd(), rnd()});
         a.angularVelocity = rnd();
@@ -291,11 +296,7 @@ TEST_CASE("single 2D contact with friction: the closed form agrees with Lemke on
     // Random pairs of spinning bodies (and bodies on static ground) with random normals, friction, restitution and
     // position bias: every case of the closed form (separating, sticking, slipping either way) is met.
     LemkeSolver solver;
-    std::uint64_t state = 11;
-    auto rnd = [&]() {  // deterministic LCG in [-1, 1)
-        state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-        return double(state >> 11) / double(1ULL << 52) - 1.0;
-    };
+    Lcg rnd{11};
     int separated = 0, stuck = 0, slipped = 0, ambiguous = 0;
     for (int trial = 0; trial < 400; ++trial) {
         CAPTURE(trial);
