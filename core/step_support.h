@@ -86,6 +86,16 @@ constexpr std::uint32_t kApproximateEntry = 1u << 31;
 /// Set in ContactKey::basicMask on entries whose island the active-set path answered (2D only, where k = 2, so the
 /// bit never meets a basis bit): the island's next solve tries that path first (core/world_step_island.h).
 constexpr std::uint32_t kActiveSetEntry = 1u << 30;
+/// Set in ContactKey::basicMask on entries whose island Lemke answered with its warm guess as it stood (no pivot: the
+/// island is settled; 2D only). An island of kActiveSetMinContacts or more whose every contact carries it with a full
+/// run goes to the active-set path next, with tangential velocities taken exactly (no dead zone): on Lemke, whose
+/// tie-breaking perturbation hides tangential speeds below ~1e-9, a settled pile's sub-dead-zone creep grows
+/// (docs/solver-notes.md). The path's answers of such an island keep the mark.
+constexpr std::uint32_t kSettledEntry = 1u << 29;
+/// With kSettledEntry: how many steps in a row (1-3, saturating) Lemke answered the island without a pivot, in bits
+/// 27-28. The hand-over waits for 3: a landing pile has single quiet steps between its pivoting ones.
+constexpr int kSettledShift = 27;
+constexpr std::uint32_t kSettledCount = 3u << kSettledShift;
 /// Islands with fewer contacts always go to Lemke: its warm start costs one factorisation of the guessed block, and a
 /// cold start about n/2 pivots of O(n) each, which the active-set iterations beat only on big islands (measured:
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step

@@ -178,8 +178,12 @@ private:
         std::vector<PgsWarm<D>> impulses;       // (contacts) last step's impulses (zero for new contacts)
         std::vector<ContactKey> keys;           // (contacts) the answer's cache entries, being built
         int activeSetContacts = 0;              // contacts whose last answer came from the active-set path
+        int settledContacts = 0;                // contacts marked settled with a full run (kSettledEntry)
+        int settledRun = 3;                     // the shortest settled run (0-3) among its contacts; 0 for a new one
         void clear() {
             activeSetContacts = 0;
+            settledContacts = 0;
+            settledRun = 3;
             local.clear();
             bodies.clear();
             contacts.clear();

@@ -101,9 +101,14 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
             const ContactKey& hit = cache.at(at);
             appendWarmBasis(hit.basicMask, ci, nc, k, out.warm);
             if (hit.basicMask & kActiveSetEntry) ++out.activeSetContacts;
+            const int run = (hit.basicMask & kSettledEntry) ? int((hit.basicMask & kSettledCount) >> kSettledShift) : 0;
+            if (run == 3) ++out.settledContacts;
+            out.settledRun = std::min(out.settledRun, run);
             approximateGuess = approximateGuess || (hit.basicMask & kApproximateEntry) != 0;
             out.impulses[std::size_t(ci)].normal = hit.normalImpulse;
             out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
+        } else {
+            out.settledRun = 0;  // a new contact: the island's quiet run starts again
         }
     }
     if (approximateGuess) out.warm.clear();  // cold (see kApproximateEntry)
@@ -177,6 +182,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve
     // that ran out of work ends the attempt (the island is approximated instead); only a failure of another kind
     // tries the frictionless LCP.
+    // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
+    // tangential velocities exactly.
+    const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3;
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
@@ -199,7 +207,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         // active-set path's own answers are interior points of a pile's degenerate face (more positive impulses than
         // the bodies have degrees of freedom), so Lemke's check of them as a basis is refused; it is not tried first
         // (measured on the 40-row large pyramid: refused on every step, 200 ms each).
-        const bool activeSetFirst = !options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc;
+        const bool activeSetFirst = !options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc || handedOver;
         if (D::kDim == 2 && nc >= kActiveSetMinContacts && activeSetFirst) {
             std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
             warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
@@ -209,7 +217,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
-            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, options, fastOptions);
+            ResolverOptions pathOptions = options;
+            if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
+            Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
             if (usable(fast)) {
                 res = std::move(fast);
@@ -292,7 +302,14 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     storeBasis(r.basis, nc, k, friction, keys.data());
     if (r.activeSet) {
         // Marked: the island's next solve starts with the active-set path too (see the solve lambda).
-        for (int ci = 0; ci < nc; ++ci) keys[std::size_t(ci)].basicMask |= kActiveSetEntry;
+        // A settled island keeps its mark while the path answers it, also on a step where a new contact joined
+        // (most of its contacts settled): the dead zone is off again from the next step.
+        const bool staysSettled = handedOver || (D::kDim == 2 && 2 * setup.settledContacts > nc);
+        for (int ci = 0; ci < nc; ++ci)
+            keys[std::size_t(ci)].basicMask |= kActiveSetEntry | (staysSettled ? kSettledEntry | kSettledCount : 0u);
+    } else if (D::kDim == 2 && friction && r.warmStarted && r.pivots == 0 && nc >= kActiveSetMinContacts) {
+        const std::uint32_t run = std::uint32_t(std::min(3, setup.settledRun + 1)) << kSettledShift;
+        for (int ci = 0; ci < nc; ++ci) keys[std::size_t(ci)].basicMask |= kSettledEntry | run;
     }
     for (int ci = 0; ci < nc; ++ci) {
         mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = keys[std::size_t(ci)];
