@@ -19,7 +19,9 @@ struct WorldSettings {
     double baumgarte = 0.2;              ///< fraction of the penetration beyond the slop removed per step
     double maxCorrectionSpeed = 3.0;     ///< cap of the position-correction velocity (m/s)
     double speculativeDistance = 0.02;   ///< contacts this far apart are already in the LCP (m)
-    /// Tangential speeds below this (m/s) are exactly 0 in the friction LCP (resting piles creep at rounding level).
+    /// Tangential speeds below this (m/s) are exactly 0 in Lemke's friction LCP (resting piles creep at rounding
+    /// level, below what its tie-breaking perturbation resolves). A settled 2D island on the active-set path takes
+    /// them exactly instead (docs/solver.md, "Settled islands").
     double tangentDeadZone = 1e-7;
     bool enableSleep = true;
     double linearSleepTolerance = 0.01;  ///< m/s

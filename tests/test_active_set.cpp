@@ -242,6 +242,43 @@ TEST_CASE("Box2D v3's large pyramid (base 20) starts cold on the active-set path
 }
 
 
+TEST_CASE("a settled testbed pyramid (sleeping off) is handed from Lemke to the active-set path and comes to rest") {
+    // The 20-row Box2D testbed pyramid lands on Lemke (boxes 0.25 m apart). Once every contact had 3 quiet Lemke
+    // answers, the island goes to the path, which takes tangential velocities exactly. On Lemke alone, with the
+    // 1e-7 m/s dead zone, one box crept from about 5 s on (velocity doubling every ~125 steps, 1.7e-8 m/s at 12 s,
+    // levelling at 8.1e-8) and Lemke re-solved the pile from 12 s.
+    auto scene = scenes::loadScene2(scenes::pyramidScene(20, 0.5, false), "pyramid20");
+    World2& world = *scene.world;
+    std::vector<Vec2> at300(scene.bodies.size());
+    int pathSteps = 0, laterPivots = 0, failed = 0;
+    for (int step = 1; step <= 1500; ++step) {
+        world.step();
+        const StepStats& s = world.stats();
+        failed += s.failedIslands;
+        if (step > 600) {
+            pathSteps += s.activeSetIslands == 1 && s.islands == 1 ? 1 : 0;
+            laterPivots += s.pivots;
+        }
+        if (step == 300) {
+            for (std::size_t i = 0; i < scene.bodies.size(); ++i) at300[i] = world.state(scene.bodies[i])->center;
+        }
+    }
+    double moved = 0.0, speed = 0.0;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+        const auto* st = world.state(scene.bodies[i]);
+        moved = std::max(moved, std::hypot(st->center.x - at300[i].x, st->center.y - at300[i].y));
+        speed = std::max(speed, std::hypot(st->velocity.x, st->velocity.y));
+    }
+    MESSAGE("settled pyramid20, steps 601-1500: " << pathSteps << " on the path, " << laterPivots
+                                                  << " pivots; largest move after step 300 " << moved
+                                                  << " m, largest speed at 25 s " << speed << " m/s");
+    CHECK(failed == 0);
+    CHECK(pathSteps == 900);
+    CHECK(laterPivots == 0);
+    CHECK(moved < 1e-9);   // measured 5.4e-11 m; on Lemke alone 7.2e-7 m
+    CHECK(speed < 1e-9);   // measured 3.3e-10 m/s; on Lemke alone 6.9e-8 m/s
+}
+
 TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a dense LU does, refuses what it cannot, and reuses analyses") {
     // [M, J~^T; J, -eps G] as the active-set path builds it: 12 bodies in a chain, each pair joined by two rows, the
     // momentum rows of every other row carrying 0.6 times a second row (a slipping contact's tangent column).
