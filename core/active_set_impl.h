@@ -678,6 +678,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             out.status = LcpStatus::solved;
         }
         out.activeSet = true;
+        out.warmFace = solved && phase == 0;
         out.message.clear();
         // The Stewart–Trinkle basis the answer stands on (the next step's warm guess): p_n > 0, the pushing tangent
         // direction, and the slack where the contact slips on the cone's rim.

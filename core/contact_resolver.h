@@ -99,6 +99,7 @@ struct Resolution {
     bool fastPath = false;         ///< true when the single-contact closed form was used
     bool warmStarted = false;      ///< a guess was given and the answer came from it (not from a cold restart)
     bool activeSet = false;        ///< the answer came from the active-set path (resolveActiveSet)
+    bool warmFace = false;         ///< active-set answers: certified on the face of the warm start (its phase 0)
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
     std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve

@@ -96,6 +96,16 @@ constexpr std::uint32_t kSettledEntry = 1u << 29;
 /// 27-28. The hand-over waits for 3: a landing pile has single quiet steps between its pivoting ones.
 constexpr int kSettledShift = 27;
 constexpr std::uint32_t kSettledCount = 3u << kSettledShift;
+/// With kSettledEntry on a handed-over island's path answer: how many of its path answers in a row (0-7) needed the
+/// active-set iteration proper because the face of the warm start did not hold (bits 24-26). At kPathStallLimit the
+/// island goes back to Lemke (kDeclinedEntry): for such an island the path costs more than Lemke's warm check (the
+/// five-level card house: 1.0 against 0.32 ms per step).
+constexpr int kPathStallShift = 24;
+constexpr std::uint32_t kPathStallCount = 7u << kPathStallShift;
+constexpr int kPathStallLimit = 7;
+/// Set on every contact of an island that the path gave back (above), and kept by its answers while any of its
+/// contacts carries it: such an island is not handed over again.
+constexpr std::uint32_t kDeclinedEntry = 1u << 23;
 /// Islands with fewer contacts always go to Lemke: its warm start costs one factorisation of the guessed block, and a
 /// cold start about n/2 pivots of O(n) each, which the active-set iterations beat only on big islands (measured:
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step

@@ -180,10 +180,14 @@ private:
         int activeSetContacts = 0;              // contacts whose last answer came from the active-set path
         int settledContacts = 0;                // contacts marked settled with a full run (kSettledEntry)
         int settledRun = 3;                     // the shortest settled run (0-3) among its contacts; 0 for a new one
+        int pathStallRun = 0;                   // the longest run of path answers off the warm face (kPathStallCount)
+        bool declined = false;                  // a contact carries kDeclinedEntry
         void clear() {
             activeSetContacts = 0;
             settledContacts = 0;
             settledRun = 3;
+            pathStallRun = 0;
+            declined = false;
             local.clear();
             bodies.clear();
             contacts.clear();

@@ -104,6 +104,8 @@ void WorldStep<D>::prepareIsland(H& hooks, const Job& job, Worker& worker) const
             const int run = (hit.basicMask & kSettledEntry) ? int((hit.basicMask & kSettledCount) >> kSettledShift) : 0;
             if (run == 3) ++out.settledContacts;
             out.settledRun = std::min(out.settledRun, run);
+            out.pathStallRun = std::max(out.pathStallRun, int((hit.basicMask & kPathStallCount) >> kPathStallShift));
+            out.declined = out.declined || (hit.basicMask & kDeclinedEntry) != 0;
             approximateGuess = approximateGuess || (hit.basicMask & kApproximateEntry) != 0;
             out.impulses[std::size_t(ci)].normal = hit.normalImpulse;
             out.impulses[std::size_t(ci)].tangent = D::fromComponents(hit.tangentImpulse);
@@ -183,8 +185,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // that ran out of work ends the attempt (the island is approximated instead); only a failure of another kind
     // tries the frictionless LCP.
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
-    // tangential velocities exactly.
-    const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3;
+    // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
+    const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
@@ -300,17 +302,24 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         keys.push_back(key);
     }
     storeBasis(r.basis, nc, k, friction, keys.data());
+    std::uint32_t mark = setup.declined ? kDeclinedEntry : 0u;
     if (r.activeSet) {
         // Marked: the island's next solve starts with the active-set path too (see the solve lambda).
         // A settled island keeps its mark while the path answers it, also on a step where a new contact joined
-        // (most of its contacts settled): the dead zone is off again from the next step.
-        const bool staysSettled = handedOver || (D::kDim == 2 && 2 * setup.settledContacts > nc);
-        for (int ci = 0; ci < nc; ++ci)
-            keys[std::size_t(ci)].basicMask |= kActiveSetEntry | (staysSettled ? kSettledEntry | kSettledCount : 0u);
-    } else if (D::kDim == 2 && friction && r.warmStarted && r.pivots == 0 && nc >= kActiveSetMinContacts) {
-        const std::uint32_t run = std::uint32_t(std::min(3, setup.settledRun + 1)) << kSettledShift;
-        for (int ci = 0; ci < nc; ++ci) keys[std::size_t(ci)].basicMask |= kSettledEntry | run;
+        // (most of its contacts settled): the dead zone is off again from the next step. A handed-over island whose
+        // path answers left the warm start's face kPathStallLimit times in a row goes back to Lemke for good
+        // (kDeclinedEntry).
+        const bool staysSettled = !setup.declined && (handedOver || (D::kDim == 2 && 2 * setup.settledContacts > nc));
+        const int stall = handedOver && !r.warmFace ? setup.pathStallRun + 1 : 0;
+        if (stall >= kPathStallLimit)
+            mark = kDeclinedEntry;
+        else
+            mark |= kActiveSetEntry | (staysSettled ? kSettledEntry | kSettledCount | (std::uint32_t(stall) << kPathStallShift) : 0u);
+    } else if (D::kDim == 2 && friction && !setup.declined && r.warmStarted && r.pivots == 0 &&
+               nc >= kActiveSetMinContacts) {
+        mark |= kSettledEntry | (std::uint32_t(std::min(3, setup.settledRun + 1)) << kSettledShift);
     }
+    for (int ci = 0; ci < nc; ++ci) keys[std::size_t(ci)].basicMask |= mark;
     for (int ci = 0; ci < nc; ++ci) {
         mNewEntry[std::size_t(setup.contacts[std::size_t(ci)])] = keys[std::size_t(ci)];
         mHasEntry[std::size_t(setup.contacts[std::size_t(ci)])] = 1;

@@ -279,6 +279,41 @@ TEST_CASE("a settled testbed pyramid (sleeping off) is handed from Lemke to the 
     CHECK(speed < 1e-9);   // measured 3.3e-10 m/s; on Lemke alone 6.9e-8 m/s
 }
 
+TEST_CASE("a settled card house goes back to Lemke when the path keeps leaving its warm face; a taller one stays") {
+    // Five levels (136 contacts): on the path the face of the warm start never holds (each answer needs the
+    // active-set iteration proper, ~3x Lemke's warm check), so after kPathStallLimit such answers the island returns
+    // to Lemke and stays there. Seven levels (292 contacts): the warm face holds on most steps, and the island stays
+    // on the path (0.2 ms per settled step against Lemke's 1.6).
+    struct Case {
+        int levels;
+        bool onPath;
+    };
+    for (const Case cs : {Case{5, false}, Case{7, true}}) {
+        CAPTURE(cs.levels);
+        auto scene = scenes::loadScene2(scenes::cardHouseScene(cs.levels, false), "cards");
+        World2& world = *scene.world;
+        const BodyId top = scene.bodies.back();
+        Vec2 start{};
+        int pathSteps = 0, laterPivots = 0, failed = 0;
+        for (int step = 1; step <= 900; ++step) {
+            world.step();
+            const StepStats& s = world.stats();
+            if (step > 300) failed += s.failedIslands;  // the taller house's landing has a few
+            if (step == 60) start = world.state(top)->center;
+            if (step > 600) {
+                pathSteps += s.activeSetIslands;
+                laterPivots += s.pivots;
+            }
+        }
+        const Vec2 now = world.state(top)->center;
+        MESSAGE(cs.levels << " levels, steps 601-900: " << pathSteps << " path answers, " << laterPivots << " pivots");
+        CHECK(failed == 0);
+        CHECK(laterPivots == 0);
+        CHECK(pathSteps == (cs.onPath ? 300 : 0));
+        CHECK(std::hypot(now.x - start.x, now.y - start.y) < 1e-3);  // stands
+    }
+}
+
 TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a dense LU does, refuses what it cannot, and reuses analyses") {
     // [M, J~^T; J, -eps G] as the active-set path builds it: 12 bodies in a chain, each pair joined by two rows, the
     // momentum rows of every other row carrying 0.6 times a second row (a slipping contact's tangent column).
