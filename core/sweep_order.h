@@ -67,6 +67,28 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
         if (!valid(i)) cache->order.push_back(i);
 }
 
+/// Sorts distinct (a, b) pairs of non-negative indices by (a, b): a least-significant-digit radix sort, one stable
+/// counting pass on b and one on a. The order is a total one, so the result is the same as std::sort's, in
+/// O(pairs + largest index) instead of O(pairs log pairs) (a static ground met by every box made one long run).
+inline void sortPairs(std::vector<std::pair<int, int>>& pairs) {
+    if (pairs.size() < 64) {
+        std::sort(pairs.begin(), pairs.end());
+        return;
+    }
+    int top = 0;
+    for (const auto& p : pairs) top = std::max(top, std::max(p.first, p.second));
+    std::vector<int> at(std::size_t(top) + 2);
+    std::vector<std::pair<int, int>> other(pairs.size());
+    auto pass = [&](const std::vector<std::pair<int, int>>& from, std::vector<std::pair<int, int>>& to, bool byFirst) {
+        std::fill(at.begin(), at.end(), 0);
+        for (const auto& p : from) ++at[std::size_t(byFirst ? p.first : p.second) + 1];
+        for (std::size_t i = 1; i < at.size(); ++i) at[i] += at[i - 1];
+        for (const auto& p : from) to[std::size_t(at[std::size_t(byFirst ? p.first : p.second)]++)] = p;
+    };
+    pass(pairs, other, false);
+    pass(other, pairs, true);
+}
+
 /// Runs fn(chunk) for every chunk in [0, chunks), in any order and possibly on several threads (each chunk writes
 /// only its own outputs). A broadphase takes one to sweep ranges of its sorted order in parallel.
 using ChunkRunner = std::function<void(int chunks, const std::function<void(int chunk)>& fn)>;
@@ -103,7 +125,7 @@ std::vector<std::pair<int, int>> sweepPairs(const std::vector<SweepEntry>& order
         pairs.reserve(total);
         for (const auto& p : parts) pairs.insert(pairs.end(), p.begin(), p.end());
     }
-    std::sort(pairs.begin(), pairs.end());
+    sortPairs(pairs);
     return pairs;
 }
 

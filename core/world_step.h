@@ -587,12 +587,17 @@ void WorldStep<D>::solveIslands(H& hooks) {
     using State = typename Job::State;
     const int nj = int(mJobs.size());
     // Big islands first, so that one long solve does not start last on a thread (any order gives the same answer).
+    // A counting sort by contact count, descending, jobs of equal count in job order (as a sort by (count desc,
+    // job) would give, in O(jobs + largest count)).
     std::vector<int> order(static_cast<std::size_t>(nj));
-    for (int j = 0; j < nj; ++j) order[std::size_t(j)] = j;
-    std::sort(order.begin(), order.end(), [&](int a, int b) {
-        const int ca = mJobs[std::size_t(a)].contactCount, cb = mJobs[std::size_t(b)].contactCount;
-        return ca != cb ? ca > cb : a < b;
-    });
+    {
+        int most = 0;
+        for (const Job& job : mJobs) most = std::max(most, job.contactCount);
+        std::vector<int> at(std::size_t(most) + 2, 0);  // at[most - c + 1]: jobs with more contacts than c
+        for (const Job& job : mJobs) ++at[std::size_t(most - job.contactCount) + 1];
+        for (std::size_t i = 1; i < at.size(); ++i) at[i] += at[i - 1];
+        for (int j = 0; j < nj; ++j) order[std::size_t(at[std::size_t(most - mJobs[std::size_t(j)].contactCount)]++)] = j;
+    }
     auto runPass = [&](auto&& fn) {
         forEach(nj, 1, [&](int i, Worker& worker) { fn(mJobs[std::size_t(order[std::size_t(i)])], worker); });
     };

@@ -387,6 +387,29 @@ TEST_CASE("broadphase: 2000 random boxes, sort-and-sweep equals brute force") {
     CHECK(calls == 7);  // 2000 boxes in chunks of about 256 sorted boxes
 }
 
+TEST_CASE("broadphase: the pairs' counting sort orders as std::sort does, with a ground met by every box") {
+    std::uint64_t state = 0x9E3779B97F4A7C15ull;
+    auto next = [&](int n) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return int((state >> 33) % std::uint64_t(n));
+    };
+    for (int size : {0, 1, 63, 64, 65, 3000}) {
+        CAPTURE(size);
+        std::vector<std::pair<int, int>> pairs;
+        for (int i = 0; i < size; ++i) {
+            const int b = 1 + next(5000);
+            pairs.push_back(i % 3 == 0 ? std::make_pair(0, b) : std::make_pair(next(b), b));  // a < b; a third on box 0
+        }
+        std::sort(pairs.begin(), pairs.end());
+        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+        std::vector<std::pair<int, int>> shuffled = pairs;
+        std::reverse(shuffled.begin(), shuffled.end());
+        for (std::size_t i = 1; i < shuffled.size(); i += 2) std::swap(shuffled[i], shuffled[i / 2]);
+        sortPairs(shuffled);
+        CHECK(shuffled == pairs);
+    }
+}
+
 TEST_CASE("broadphase: a sweep cache kept between calls changes the cost, never the pairs") {
     std::uint64_t state = 0x9E3779B97F4A7C15ull;
     auto next = [&]() {
