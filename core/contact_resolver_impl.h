@@ -554,6 +554,22 @@ SparseLcp assembleFrictionLcpSparse(const std::vector<ResolverBody<D>>& bodies,
     return lcp;
 }
 
+namespace detail {
+
+/// eq. (15) for one contact's impulse P: v += P / M, omega += I^-1 (r x P) on A; B receives -P (Newton's third law).
+template <class D>
+void applyImpulse(std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const typename D::Vec& P) {
+    ResolverBody<D>& A = bodies[std::size_t(c.a)];
+    ResolverBody<D>& B = bodies[std::size_t(c.b)];
+    A.velocity = D::add(A.velocity, D::scale(A.invMass, P));
+    A.angularVelocity = D::angAdd(A.angularVelocity, D::applyInvInertia(A.invInertia, D::cross(D::sub(c.point, A.position), P)));
+    B.velocity = D::sub(B.velocity, D::scale(B.invMass, P));
+    B.angularVelocity = D::angAdd(B.angularVelocity,
+                                  D::applyInvInertia(B.invInertia, D::cross(D::sub(c.point, B.position), D::scale(-1.0, P))));
+}
+
+}  // namespace detail
+
 template <class D>
 void applyImpulses(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
                    const std::vector<double>& impulses, const std::vector<typename D::Vec>* tangent) {
@@ -561,14 +577,7 @@ void applyImpulses(std::vector<ResolverBody<D>>& bodies, const std::vector<Conta
         const ContactNode<D>& c = contacts[i];
         typename D::Vec P = D::scale(impulses[i], c.normal);  // Psi = f n, eq. (5)
         if (tangent) P = D::add(P, (*tangent)[i]);
-        ResolverBody<D>& A = bodies[std::size_t(c.a)];
-        ResolverBody<D>& B = bodies[std::size_t(c.b)];
-        // eq. (15): v += Psi / M, omega += I^-1 (r x Psi); B receives -Psi (Newton's third law).
-        A.velocity = D::add(A.velocity, D::scale(A.invMass, P));
-        A.angularVelocity = D::angAdd(A.angularVelocity, D::applyInvInertia(A.invInertia, D::cross(D::sub(c.point, A.position), P)));
-        B.velocity = D::sub(B.velocity, D::scale(B.invMass, P));
-        B.angularVelocity = D::angAdd(B.angularVelocity,
-                                      D::applyInvInertia(B.invInertia, D::cross(D::sub(c.point, B.position), D::scale(-1.0, P))));
+        detail::applyImpulse(bodies, c, P);
     }
 }
 

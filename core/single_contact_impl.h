@@ -82,6 +82,7 @@ bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const std::vect
     out.scaledResidual = scaled;
     out.work = 0;  // the world charges the whole closed form as one (work::kClosedFormIsland)
     out.basis.clear();
+    out.basis.reserve(4);
     for (int i = 0; i < 4; ++i) {
         if (z[i] > 0.0) out.basis.push_back(i);
     }
@@ -89,10 +90,9 @@ bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const std::vect
     out.warmStarted = guess && !guess->empty();  // a guess is never wrong here: no solve needed one
     out.impulses.assign(1, pn);
     const typename D::Vec ft = D::scale(pt, t);
-    out.tangentImpulses.clear();
-    for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(ft[d]);
-    const std::vector<typename D::Vec> tangent(1, ft);
-    applyImpulses(bodies, contacts, out.impulses, &tangent);
+    out.tangentImpulses.assign(D::kDim, 0.0);
+    for (int d = 0; d < D::kDim; ++d) out.tangentImpulses[std::size_t(d)] = ft[d];
+    applyImpulse(bodies, c, D::add(D::scale(pn, c.normal), ft));  // as applyImpulses, without a vector of one
     return true;
 }
 

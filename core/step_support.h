@@ -124,6 +124,11 @@ inline void appendWarmBasis(std::uint32_t mask, int ci, int nc, int k, std::vect
 /// |guess symmetric-difference basis|: the unknowns basic in one and not the other (indices >= 0, each list
 /// without repeats, in any order). O(entries + largest index): no sort on the step's path.
 inline int basisDistance(const std::vector<int>& guess, const std::vector<int>& basis) {
+    if (guess.size() * basis.size() <= 64) {  // small islands (one contact: 1-3 each), without a table
+        int common = 0;
+        for (int j : guess) common += std::find(basis.begin(), basis.end(), j) != basis.end() ? 1 : 0;
+        return int(guess.size() + basis.size()) - 2 * common;
+    }
     int size = 0;
     for (int j : basis) size = std::max(size, j + 1);
     std::vector<char> inBasis(std::size_t(size), 0);

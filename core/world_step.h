@@ -539,7 +539,7 @@ void WorldStep<D>::planIslands(H& hooks) {
         ++mStats.awakeIslands;
         for (int j = b0; j < b1; ++j) cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake = true;
         if (e1 == e0) continue;
-        Job job;
+        Job& job = mJobs.emplace_back();  // built in place (a Job carries a StepStats)
         job.island = isl;
         job.contactCount = e1 - e0;
         const std::uint64_t rows = kRows * std::uint64_t(job.contactCount);
@@ -549,7 +549,6 @@ void WorldStep<D>::planIslands(H& hooks) {
             job.raw = predictedNeed(hooks, isl);
             job.need = job.raw + job.raw / 4;  // a quarter more as margin
         }
-        mJobs.push_back(std::move(job));
     }
 }
 
