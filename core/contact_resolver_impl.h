@@ -628,7 +628,7 @@ Resolution resolveWithFriction(std::vector<ResolverBody<D>>& ioBodies, const std
     out.message = validate(ioBodies, contacts);
     if (!out.message.empty()) return out;
     if constexpr (D::kDim == 2) {
-        if (contacts.size() == 1 && detail::singleContactFriction(ioBodies, contacts, options, out)) return out;
+        if (contacts.size() == 1 && detail::singleContactFriction(ioBodies, contacts[0], options, out)) return out;
     }
     detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, options);
     const FrictionLayout layout = sys.layout;

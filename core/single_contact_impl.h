@@ -1,12 +1,12 @@
 // core/single_contact_impl.h — the closed form of one 2D contact's friction LCP (detail::singleContactFriction),
 // which resolveWithFriction tries before Lemke. Included by core/contact_resolver_impl.h where its helpers
-// (buildFrictionSystem, applyImpulses, the residual rule) are defined; nothing else includes it.
+// (makeRow, normalRhs, relativeVelocityAlong, applyImpulse) are defined; nothing else includes it.
 #pragma once
 
 namespace unison {
 namespace detail {
 
-// The friction LCP of the one 2D contact of `contacts` (unknowns p_n, beta+, beta-, lambda) in closed form, the friction extension of the
+// The friction LCP of one 2D contact (unknowns p_n, beta+, beta-, lambda) in closed form, the friction extension of the
 // paper's single-point formula: with a = J M^-1 J^T of its normal and tangent rows and b their right-hand sides (as
 // buildFrictionSystem), the contact separates (b_n >= 0: no impulse, lambda = |b_t|), sticks (a p = -b with p_n >= 0
 // and |p_t| <= mu p_n) or slips with p_t = s mu p_n, s = +-1 (p_n = -b_n / (a_nn + s mu a_nt) > 0 and the sliding
@@ -14,9 +14,8 @@ namespace detail {
 // then checked on the whole 4 x 4 LCP with the rule of every Lemke answer (scaled residual <= tolerance). False, and
 // the bodies untouched, when no case holds or the check fails (the caller goes on with Lemke).
 template <class D>
-bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const std::vector<ContactNode<D>>& contacts,
-                           const ResolverOptions& options, Resolution& out) {
-    const ContactNode<D>& c = contacts[0];
+bool singleContactFriction(std::vector<ResolverBody<D>>& bodies, const ContactNode<D>& c, const ResolverOptions& options,
+                           Resolution& out) {
     const typename D::Vec t = D::tangentDirection(c.normal, 0, 2);
     const JacobianRow<D> rows[2] = {makeRow(bodies, c, c.normal), makeRow(bodies, c, t)};
     double a[2][2] = {{0.0, 0.0}, {0.0, 0.0}};
