@@ -2,21 +2,26 @@
 // in geometry (shapes, narrowphase) and body math (rotation, inertia), which they supply through a small hooks
 // object; everything else of the step is here, as named stages that run() calls in order:
 //   applyGravity       external forces into velocities
-//   findContacts       proxies with their speculative reach, the broadphase, and the narrowphase in parallel
-//   planIslands        islands by union-find (core/island); sleeping islands keep their cache entries; each awake
-//                      island with contacts becomes a job with its predicted work and its reserve
+//   findContacts       proxies with their speculative reach, the broadphase, the narrowphase, and the gathering
+//                      of its points in pair order, each in parallel
+//   planIslands        each contact's edge and cache entry (in parallel), islands by union-find (core/island);
+//                      then in parallel over islands: sleeping ones keep their cache entries, awake ones wake their
+//                      bodies; each awake island with contacts becomes a job with its predicted work and reserve
 //   solveIslands       the budget split (core/step_budget), then exact solves (core/world_step_island.h) in two
 //                      passes and the bounded approximation (core/pgs.h) for what the budget left unsolved, each
-//                      pass in parallel over islands
-//   finishIslands      integration through the world's hook and sleeping, in parallel over islands
-//   mergeResults       the islands' cache entries and statistics in island order; kinematic bodies; touch events
+//                      pass in parallel over islands; without a budget, each island is integrated (finishIsland)
+//                      right after its solve, on the same thread
+//   finishIslands      integration through the world's hook and sleeping, in parallel over the islands not yet
+//                      integrated
+//   mergeResults       the workers' statistics, the cache entries in contact order; kinematic bodies; touch events
 //
 // Owns: the dimension-free state and scratch of a step — the warm-start cache and the touching pairs (both part of
 // a world's hashed state), per-worker scratch (a LemkeSolver, the island-local body numbering), the per-body
 // position velocities of bounce islands, the built-in thread pool, and the last step's contacts and statistics.
 // Invariants: every serial loop runs in dense body, island or contact order; a parallel pass writes only the
 // outputs of its own item (a pair's slots, an island's bodies, contacts and job), and what a pass produces is
-// merged afterwards in item order, so the answer, the cache and StepStats are the same for any thread count; no
+// merged afterwards in item order (per-worker counts are sums of integers and maxima, which merge in any order),
+// so the answer, the cache and StepStats are the same for any thread count; no
 // unordered containers; the cache comes out sorted by key; a worker's localIndex is all -1 between islands; move
 // is reset every step and never hashed.
 #pragma once
@@ -207,6 +212,8 @@ private:
         PgsScratch<D> pgs;            // the approximation's working arrays
         SymmetricPatternCache patterns;  // the active-set path's analyses of recent steps' system patterns
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
+        std::uint64_t narrowWork = 0;  // the narrowphase's work units of the pairs this worker gathered
+        StepStats solved;             // counts of the island solves this worker ran (merged by accumulate())
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
     struct Job {
@@ -221,7 +228,6 @@ private:
         std::uint64_t extra = 0;      // approximation share beyond the reserve
         std::uint64_t work = 0;       // spent so far
         State state = State::pending;
-        StepStats stats;                // this island's counts
     };
 
     template <class H>
@@ -234,6 +240,9 @@ private:
     void solveIslands(H& hooks);
     template <class H>
     void finishIslands(H& hooks);
+    /// Integrates one awake island's bodies and updates their sleep timers (the island's bodies only).
+    template <class H>
+    void finishIsland(H& hooks, int island);
     template <class H>
     void mergeResults(H& hooks);
 
@@ -278,6 +287,11 @@ private:
     std::vector<StepContact<D>> mSlots;   // the narrowphase's points, kSlots per broadphase pair
     Islands mIslands;
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
+    std::vector<int> mBareIslands;        // awake islands without contacts (no job), island order
+    bool mFinishedInSolve = false;        // this step integrated each job's island right after its solve
+    std::vector<std::uint64_t> mIslandNeed;  // per awake island with contacts, with a budget: predictedNeed()
+    std::vector<std::uint8_t> mJoins;     // per body: 1 when it joins islands (dynamic), from findContacts
+    std::vector<IslandEdge> mEdges;       // per contact: its two bodies
     std::vector<Job> mJobs;               // awake islands with contacts, island order
     std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
     std::vector<Move> mMove;              // dense body -> position velocities of this step
@@ -309,8 +323,8 @@ inline std::uint64_t assemblyWork(std::uint64_t rows) {
     return work::kPerIsland + work::kPerRow * rows + work::kPerRowRoot * rows * root;
 }
 
-/// Adds an island's (or a worker's) counts to the step's: sums and maxima, so the order of merging does not matter
-/// for the integers and the maxima, and the caller merges in island order anyway.
+/// Adds a worker's counts to the step's: sums of integers and maxima, so the result does not depend on which worker
+/// solved which island, nor on the order of merging.
 inline void accumulate(StepStats& into, const StepStats& from) {
     into.candidates += from.candidates;
     into.pivots += from.pivots;
@@ -388,10 +402,12 @@ void WorldStep<D>::findContacts(H& hooks) {
         return D::dot(n, D::sub(va, vb));
     };
     auto length = [](const Vec& v) { return std::sqrt(D::dot(v, v)); };
+    mJoins.resize(std::size_t(nb));
     forEach(nb, 64, [&](int d, Worker&) {
         const auto& st = hot[std::size_t(d)];
         const auto& info = cold[std::size_t(d)];
         xfs[std::size_t(d)] = hooks.transform(st);
+        mJoins[std::size_t(d)] = world_step_detail::isDynamic(info) ? 1 : 0;
         for (int s = 0; s < int(info.shapes.size()); ++s) {
             auto box = computeAabb(info.shapes[std::size_t(s)], xfs[std::size_t(d)]);
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
@@ -482,71 +498,95 @@ void WorldStep<D>::findContacts(H& hooks) {
         [[maybe_unused]] const auto scope = hooks.narrowphaseScope();
         for (int i = 0; i < np; ++i) collidePair(i, mWorkers[0]);
     }
-    std::uint64_t narrow = 0;
-    for (int i = 0; i < np; ++i) {
-        narrow += pairWork[std::size_t(i)];
-        for (int k = 0; k < counts[std::size_t(i)]; ++k) mContacts.push_back(slots[std::size_t(i) * kSlots + std::size_t(k)]);
+    // The points gathered in pair order, in parallel from each pair's offset. mContacts keeps its size from the last
+    // step, so only growth is initialised here.
+    std::vector<int> offset(std::size_t(np) + 1, 0);
+    for (int i = 0; i < np; ++i) offset[std::size_t(i) + 1] = offset[std::size_t(i)] + counts[std::size_t(i)];
+    mContacts.resize(std::size_t(offset[std::size_t(np)]));
+    for (Worker& w : mWorkers) w.narrowWork = 0;
+    forRanges(np, 256, [&](int begin, int end, Worker& worker) {
+        for (int i = begin; i < end; ++i) {
+            worker.narrowWork += pairWork[std::size_t(i)];
+            std::copy_n(slots + std::size_t(i) * kSlots, counts[std::size_t(i)], mContacts.begin() + offset[std::size_t(i)]);
+        }
+    });
+    std::uint64_t narrow = 0;  // a sum of integers: the same in any order
+    for (const Worker& w : mWorkers) {
+        narrow += w.narrowWork;
+        mStats.candidates += w.collide.candidates;
     }
-    for (const Worker& w : mWorkers) mStats.candidates += w.collide.candidates;
     mFixedWork += work::kPerBody * hot.size() + work::kPerShape * proxies.size() + work::kPerPair * pairs.size() + narrow;
 }
 
 template <class D>
 template <class H>
 void WorldStep<D>::planIslands(H& hooks) {
-    using world_step_detail::isDynamic;
     auto& cold = hooks.bodies().coldArray();
     const int nb = int(cold.size());
-    std::vector<std::uint8_t> joins(std::size_t(nb), 0);
-    for (int d = 0; d < nb; ++d) joins[std::size_t(d)] = isDynamic(cold[std::size_t(d)]) ? 1 : 0;
-    std::vector<IslandEdge> edges;
-    edges.reserve(mContacts.size());
-    for (const StepContact<D>& c : mContacts) edges.push_back({c.bodyA, c.bodyB});
-    mIslands = buildIslands(nb, joins, edges);
-    mStats.islands = mIslands.count();
-    // Every contact's warm-start entry, looked up once (contacts come in nearly ascending key order: each range
+    const int nc = int(mContacts.size());
+    // Each contact's edge and warm-start entry, in parallel (contacts come in nearly ascending key order: each range
     // starts with a search and then tries the entry after the last hit first).
-    mHit.resize(mContacts.size());
-    mNewEntry.resize(mContacts.size());
-    mHasEntry.assign(mContacts.size(), 0);
-    forRanges(int(mContacts.size()), 256, [&](int begin, int end, Worker&) {
+    mEdges.resize(std::size_t(nc));
+    mHit.resize(std::size_t(nc));
+    mNewEntry.resize(std::size_t(nc));
+    mHasEntry.assign(std::size_t(nc), 0);
+    forRanges(nc, 256, [&](int begin, int end, Worker&) {
         int hint = -1;
         for (int ci = begin; ci < end; ++ci) {
-            const int hit = cache.findFrom(keyOf(hooks, mContacts[std::size_t(ci)]), hint);
+            const StepContact<D>& c = mContacts[std::size_t(ci)];
+            mEdges[std::size_t(ci)] = {c.bodyA, c.bodyB};
+            const int hit = cache.findFrom(keyOf(hooks, c), hint);
             mHit[std::size_t(ci)] = hit;
             hint = hit >= 0 ? hit + 1 : hint;
         }
     });
-    mAwake.assign(std::size_t(mIslands.count()), 0);
-    mJobs.clear();
+    mJoins.resize(std::size_t(nb));  // filled by findContacts
+    mIslands = buildIslands(nb, mJoins, mEdges);
+    const int ni = mIslands.count();
+    mStats.islands = ni;
     mFixedWork += work::kPerContact * mContacts.size();
-    constexpr std::uint64_t kRows = std::uint64_t(pgsTangentRows<D>() + 1);
-    for (int isl = 0; isl < mIslands.count(); ++isl) {
+    // Each island in parallel: a sleeping one keeps its warm-start data; an awake one wakes all its bodies and, with
+    // a budget, gets its predicted need.
+    mAwake.assign(std::size_t(ni), 0);
+    if (mControl.budget > 0) mIslandNeed.resize(std::size_t(ni));
+    forEach(ni, 64, [&](int isl, Worker&) {
         const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
         const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
         bool anyAwake = false;
-        for (int j = b0; j < b1; ++j) anyAwake = anyAwake || cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
-        if (!anyAwake) {  // a sleeping island keeps its warm-start data
+        for (int j = b0; j < b1 && !anyAwake; ++j) anyAwake = cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
+        if (!anyAwake) {
             for (int j = e0; j < e1; ++j) {
                 const int ci = mIslands.edges[std::size_t(j)];
                 if (mHit[std::size_t(ci)] < 0) continue;
                 mNewEntry[std::size_t(ci)] = cache.at(mHit[std::size_t(ci)]);
                 mHasEntry[std::size_t(ci)] = 1;
             }
-            continue;
+            return;
         }
         mAwake[std::size_t(isl)] = 1;
-        ++mStats.awakeIslands;
         for (int j = b0; j < b1; ++j) cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake = true;
-        if (e1 == e0) continue;
-        Job& job = mJobs.emplace_back();  // built in place (a Job carries a StepStats)
+        if (mControl.budget > 0 && e1 > e0) mIslandNeed[std::size_t(isl)] = predictedNeed(hooks, isl);
+    });
+    // The jobs: awake islands with contacts, in island order.
+    mJobs.clear();
+    mBareIslands.clear();
+    constexpr std::uint64_t kRows = std::uint64_t(pgsTangentRows<D>() + 1);
+    for (int isl = 0; isl < ni; ++isl) {
+        if (!mAwake[std::size_t(isl)]) continue;
+        ++mStats.awakeIslands;
+        const int count = mIslands.edgeCount(isl);
+        if (count == 0) {
+            mBareIslands.push_back(isl);
+            continue;
+        }
+        Job& job = mJobs.emplace_back();
         job.island = isl;
-        job.contactCount = e1 - e0;
-        const std::uint64_t rows = kRows * std::uint64_t(job.contactCount);
+        job.contactCount = count;
+        const std::uint64_t rows = kRows * std::uint64_t(count);
         job.sweepWork = work::kPgsSweepPerRow * rows;
         job.minimum = work::kPgsPerIsland + work::kPgsSetupPerRow * rows + std::uint64_t(work::kMinSweeps) * job.sweepWork;
         if (mControl.budget > 0) {
-            job.raw = predictedNeed(hooks, isl);
+            job.raw = mIslandNeed[std::size_t(isl)];
             job.need = job.raw + job.raw / 4;  // a quarter more as margin
         }
     }
@@ -601,12 +641,23 @@ void WorldStep<D>::solveIslands(H& hooks) {
         forEach(nj, 1, [&](int i, Worker& worker) { fn(mJobs[std::size_t(order[std::size_t(i)])], worker); });
     };
     // Analyses unused for a whole step are dropped (found or not, an analysis never changes an answer).
-    for (Worker& w : mWorkers) w.patterns.nextGeneration();
+    if (mWorkers.empty()) mWorkers.resize(1);
+    for (Worker& w : mWorkers) {
+        w.patterns.nextGeneration();
+        w.solved = StepStats{};
+    }
     std::uint64_t reserve = 0;
     for (const Job& job : mJobs) reserve += job.minimum;
     mStats.minimumWork = mFixedWork + reserve;
+    mIslandFault.assign(std::size_t(mIslands.count()), 0);
+    mFinishedInSolve = mControl.budget == 0;
     if (mControl.budget == 0) {  // unlimited: every island exact, as far as its LCP can be solved
-        runPass([&](Job& job, Worker& worker) { solveIsland(hooks, job, worker); });
+        // Each island is integrated right after its solve, on the same thread, while its bodies are in its cache
+        // (the integration reads nothing of other islands).
+        runPass([&](Job& job, Worker& worker) {
+            solveIsland(hooks, job, worker);
+            finishIsland(hooks, job.island);
+        });
         return;
     }
     // The budget: what collision and bookkeeping left, minus every island's reserve, is the exact pool.
@@ -676,39 +727,47 @@ void WorldStep<D>::solveIslands(H& hooks) {
 
 template <class D>
 template <class H>
-void WorldStep<D>::finishIslands(H& hooks) {
+void WorldStep<D>::finishIsland(H& hooks, int isl) {
     const auto& def = hooks.def();
     const double dt = 1.0 / def.hz;
     auto& hot = hooks.bodies().hotArray();
     auto& cold = hooks.bodies().coldArray();
-    mIslandFault.assign(std::size_t(mIslands.count()), 0);
-    forEach(mIslands.count(), 64, [&](int isl, Worker&) {
-        if (!mAwake[std::size_t(isl)]) return;
-        const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
-        double minSleep = 1e300;
+    const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
+    double minSleep = 1e300;
+    for (int j = b0; j < b1; ++j) {
+        const int d = mIslands.bodies[std::size_t(j)];
+        auto& s = hot[std::size_t(d)];
+        auto& info = cold[std::size_t(d)];
+        const Move& move = mMove[std::size_t(d)];
+        if (move.set)
+            hooks.integrate(d, move.velocity, move.angularVelocity, dt);
+        else
+            hooks.integrate(d, s.velocity, s.angularVelocity, dt);
+        const bool slow = D::dot(s.velocity, s.velocity) <= def.linearSleepTolerance * def.linearSleepTolerance &&
+                          D::angWithin(s.angularVelocity, def.angularSleepTolerance);
+        info.sleepTime = slow ? info.sleepTime + dt : 0.0;
+        if (!hooks.motionOk(s)) mIslandFault[std::size_t(isl)] = 1;
+        minSleep = std::min(minSleep, info.sleepTime);
+    }
+    if (def.enableSleep && minSleep >= def.timeToSleep) {
         for (int j = b0; j < b1; ++j) {
             const int d = mIslands.bodies[std::size_t(j)];
-            auto& s = hot[std::size_t(d)];
-            auto& info = cold[std::size_t(d)];
-            const Move& move = mMove[std::size_t(d)];
-            if (move.set)
-                hooks.integrate(d, move.velocity, move.angularVelocity, dt);
-            else
-                hooks.integrate(d, s.velocity, s.angularVelocity, dt);
-            const bool slow = D::dot(s.velocity, s.velocity) <= def.linearSleepTolerance * def.linearSleepTolerance &&
-                              D::angWithin(s.angularVelocity, def.angularSleepTolerance);
-            info.sleepTime = slow ? info.sleepTime + dt : 0.0;
-            if (!hooks.motionOk(s)) mIslandFault[std::size_t(isl)] = 1;
-            minSleep = std::min(minSleep, info.sleepTime);
+            cold[std::size_t(d)].awake = false;
+            hot[std::size_t(d)].velocity = D::zeroVec();
+            hot[std::size_t(d)].angularVelocity = D::zeroAng();
         }
-        if (def.enableSleep && minSleep >= def.timeToSleep) {
-            for (int j = b0; j < b1; ++j) {
-                const int d = mIslands.bodies[std::size_t(j)];
-                cold[std::size_t(d)].awake = false;
-                hot[std::size_t(d)].velocity = D::zeroVec();
-                hot[std::size_t(d)].angularVelocity = D::zeroAng();
-            }
-        }
+    }
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::finishIslands(H& hooks) {
+    if (mFinishedInSolve) {  // the islands with jobs were finished right after their solves
+        forEach(int(mBareIslands.size()), 64, [&](int k, Worker&) { finishIsland(hooks, mBareIslands[std::size_t(k)]); });
+        return;
+    }
+    forEach(mIslands.count(), 64, [&](int isl, Worker&) {
+        if (mAwake[std::size_t(isl)]) finishIsland(hooks, isl);
     });
 }
 
@@ -727,10 +786,8 @@ void WorldStep<D>::mergeResults(H& hooks) {
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
             mMotionFault = mMotionFault || !hooks.motionOk(hot[std::size_t(d)]);
         }
-    for (Job& job : mJobs) {  // island order
-        world_step_detail::accumulate(mStats, job.stats);
-        mStats.work += job.work;
-    }
+    for (const Worker& w : mWorkers) world_step_detail::accumulate(mStats, w.solved);
+    for (const Job& job : mJobs) mStats.work += job.work;
     // The next cache in contact order: contacts come in body-pair order, which is nearly the key order, so the sort
     // in replace() has little to do (in island order, each island's contacts with the ground would be far apart).
     std::vector<ContactKey> newCache;
@@ -761,7 +818,6 @@ void WorldStep<D>::run(H& hooks, const StepControl& control) {
     mStats.budget = control.budget;
     mFixedWork = 0;
     applyGravity(hooks);
-    mContacts.clear();
     findContacts(hooks);
     mStats.contacts = int(mContacts.size());
     planIslands(hooks);

@@ -141,7 +141,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     const int k = hooks.frictionDirections();
     const int pivotsPerUnknown = hooks.frictionPivotsPerUnknown();
     const bool budgeted = mControl.budget > 0;
-    StepStats& stats = job.stats;
+    StepStats& stats = worker.solved;  // sums and maxima: the same whichever worker counts them
     ResolverOptions options;
     options.restitutionThreshold = def.restitutionThreshold;
     options.frictionDirections = k;
@@ -339,8 +339,8 @@ void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
     const PgsResult<D> p = solvePgs(setup.bodies, setup.nodes, setup.impulses, sweeps, def.restitutionThreshold, worker.pgs);
     job.work += job.minimum - std::uint64_t(work::kMinSweeps) * job.sweepWork + std::uint64_t(sweeps) * job.sweepWork;
     job.state = Job::State::approximate;
-    ++job.stats.approximateIslands;
-    job.stats.maxApproximateResidual = std::max(job.stats.maxApproximateResidual, p.residual);
+    ++worker.solved.approximateIslands;
+    worker.solved.maxApproximateResidual = std::max(worker.solved.maxApproximateResidual, p.residual);
     // What the exact solve is predicted to cost next step: twice the share it ran out of; an island that was not
     // tried keeps each contact's last prediction (0 for new ones: the cold prior, see predictedNeed).
     const std::uint32_t doubled = job.grant > 0 ? world_step_detail::perContactCost(2 * job.grant, nc) : 0;
