@@ -23,6 +23,10 @@ inline bool sweepLess(const SweepEntry& l, const SweepEntry& r) {
     return l.lowerX < r.lowerX || (l.lowerX == r.lowerX && l.index < r.index);
 }
 
+/// Runs fn(chunk) for every chunk in [0, chunks), in any order and possibly on several threads (each chunk writes
+/// only its own outputs). A broadphase takes one to sweep ranges of its sorted order in parallel.
+using ChunkRunner = std::function<void(int chunks, const std::function<void(int chunk)>& fn)>;
+
 /// The order of the last sort: every box index of that call, valid ones first in sorted order.
 struct SweepCache {
     std::vector<int> order;
@@ -30,15 +34,32 @@ struct SweepCache {
 
 /// The valid boxes (valid(i)) of [0, n) sorted by (lowerX(i), i) into `out`. With a cache from a call of the same n,
 /// it starts from that call's order and sorts by insertion with a budget of moves (about 8 per box), then falls
-/// back to std::sort; the cache is updated. Without one (nullptr), std::sort.
+/// back to std::sort; the cache is updated. Without one (nullptr), std::sort. With a runner, the entries are read
+/// in parallel chunks (each writes its own part of `out`; the result is the same).
 template <class Valid, class LowerX>
-void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, SweepCache* cache) {
-    out.clear();
-    out.reserve(std::size_t(n));
+void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, SweepCache* cache,
+               const ChunkRunner* runner = nullptr) {
     const bool warm = cache && int(cache->order.size()) == n;
-    for (int k = 0; k < n; ++k) {
-        const int i = warm ? cache->order[std::size_t(k)] : k;
-        if (valid(i)) out.push_back({lowerX(i), i});
+    // Every box's entry in the starting order; an invalid box i is marked by index -1 - i and then set aside.
+    out.resize(std::size_t(n));
+    auto fill = [&](int begin, int end) {
+        for (int k = begin; k < end; ++k) {
+            const int i = warm ? cache->order[std::size_t(k)] : k;
+            out[std::size_t(k)] = valid(i) ? SweepEntry{lowerX(i), i} : SweepEntry{0.0, -1 - i};
+        }
+    };
+    const int chunks = runner ? std::min(64, n / 512) : 0;
+    if (chunks < 2) {
+        fill(0, n);
+    } else {
+        (*runner)(chunks, [&](int c) { fill(int(std::int64_t(n) * c / chunks), int(std::int64_t(n) * (c + 1) / chunks)); });
+    }
+    std::vector<int> invalid;
+    for (const SweepEntry& e : out)
+        if (e.index < 0) invalid.push_back(-1 - e.index);
+    if (!invalid.empty()) {
+        out.erase(std::remove_if(out.begin(), out.end(), [](const SweepEntry& e) { return e.index < 0; }), out.end());
+        std::sort(invalid.begin(), invalid.end());
     }
     bool sorted = false;
     if (warm) {
@@ -63,8 +84,7 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
     cache->order.clear();
     cache->order.reserve(std::size_t(n));
     for (const SweepEntry& e : out) cache->order.push_back(e.index);
-    for (int i = 0; i < n; ++i)
-        if (!valid(i)) cache->order.push_back(i);
+    cache->order.insert(cache->order.end(), invalid.begin(), invalid.end());
 }
 
 /// Sorts distinct (a, b) pairs of non-negative indices by (a, b): a least-significant-digit radix sort, one stable
@@ -88,10 +108,6 @@ inline void sortPairs(std::vector<std::pair<int, int>>& pairs) {
     pass(pairs, other, false);
     pass(other, pairs, true);
 }
-
-/// Runs fn(chunk) for every chunk in [0, chunks), in any order and possibly on several threads (each chunk writes
-/// only its own outputs). A broadphase takes one to sweep ranges of its sorted order in parallel.
-using ChunkRunner = std::function<void(int chunks, const std::function<void(int chunk)>& fn)>;
 
 /// The sweep over sorted boxes: for every position i of `order`, the boxes j > i that start before box i ends in x
 /// (order[j].lowerX <= upperX(order[i].index)) and pass keep(a, b) (the other axes, flags), as (min, max) pairs,

@@ -1,9 +1,9 @@
 // core/world_step.h — the world step of DESIGN.md written once for both dimensions: World2 and World3 differ only
 // in geometry (shapes, narrowphase) and body math (rotation, inertia), which they supply through a small hooks
 // object; everything else of the step is here, as named stages that run() calls in order:
-//   applyGravity       external forces into velocities
-//   findContacts       proxies with their speculative reach, the broadphase, the narrowphase, and the gathering
-//                      of its points in pair order, each in parallel
+//   findContacts       in parallel over bodies: gravity into awake dynamic bodies' velocities, then proxies with
+//                      their speculative reach; the broadphase, the narrowphase, and the gathering of its points in
+//                      pair order with each contact's edge, cache entry and touch pair, each in parallel
 //   planIslands        each contact's edge and cache entry (in parallel), islands by union-find (core/island);
 //                      then in parallel over islands: sleeping ones keep their cache entries, awake ones wake their
 //                      bodies; each awake island with contacts becomes a job with its predicted work and reserve
@@ -213,6 +213,7 @@ private:
         SymmetricPatternCache patterns;  // the active-set path's analyses of recent steps' system patterns
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
         std::uint64_t narrowWork = 0;  // the narrowphase's work units of the pairs this worker gathered
+        int kinematicBodies = 0;      // kinematic bodies this worker met in findContacts' body pass
         StepStats solved;             // counts of the island solves this worker ran (merged by accumulate())
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -230,8 +231,6 @@ private:
         State state = State::pending;
     };
 
-    template <class H>
-    void applyGravity(H& hooks);
     template <class H>
     void findContacts(H& hooks);
     template <class H>
@@ -292,6 +291,7 @@ private:
     std::vector<std::uint64_t> mIslandNeed;  // per awake island with contacts, with a budget: predictedNeed()
     std::vector<std::uint8_t> mJoins;     // per body: 1 when it joins islands (dynamic), from findContacts
     std::vector<IslandEdge> mEdges;       // per contact: its two bodies
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouch;  // per contact: its touch pair, {0, 0} if none
     std::vector<Job> mJobs;               // awake islands with contacts, island order
     std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
     std::vector<Move> mMove;              // dense body -> position velocities of this step
@@ -361,22 +361,9 @@ void WorldStep<D>::forRanges(int count, int minRange, Body&& body) {
 
 template <class D>
 template <class H>
-void WorldStep<D>::applyGravity(H& hooks) {
-    const auto& def = hooks.def();
-    const double dt = 1.0 / def.hz;
-    auto& hot = hooks.bodies().hotArray();
-    const auto& cold = hooks.bodies().coldArray();
-    for (std::size_t d = 0; d < hot.size(); ++d) {
-        if (world_step_detail::isDynamic(cold[d]) && cold[d].awake)
-            hot[d].velocity = D::add(hot[d].velocity, D::scale(dt, def.gravity));
-    }
-}
-
-template <class D>
-template <class H>
 void WorldStep<D>::findContacts(H& hooks) {
     const auto& def = hooks.def();
-    const auto& hot = hooks.bodies().hotArray();
+    auto& hot = hooks.bodies().hotArray();
     const auto& cold = hooks.bodies().coldArray();
     struct Proxy {
         int body, shape;
@@ -403,11 +390,16 @@ void WorldStep<D>::findContacts(H& hooks) {
     };
     auto length = [](const Vec& v) { return std::sqrt(D::dot(v, v)); };
     mJoins.resize(std::size_t(nb));
-    forEach(nb, 64, [&](int d, Worker&) {
-        const auto& st = hot[std::size_t(d)];
+    if (mWorkers.empty()) mWorkers.resize(1);
+    for (Worker& w : mWorkers) w.kinematicBodies = 0;
+    forEach(nb, 64, [&](int d, Worker& worker) {
+        auto& st = hot[std::size_t(d)];
         const auto& info = cold[std::size_t(d)];
+        const bool dynamic = world_step_detail::isDynamic(info);
+        if (world_step_detail::isKinematic(info)) ++worker.kinematicBodies;
+        if (dynamic && info.awake) st.velocity = D::add(st.velocity, D::scale(dt, def.gravity));  // external forces
         xfs[std::size_t(d)] = hooks.transform(st);
-        mJoins[std::size_t(d)] = world_step_detail::isDynamic(info) ? 1 : 0;
+        mJoins[std::size_t(d)] = dynamic ? 1 : 0;
         for (int s = 0; s < int(info.shapes.size()); ++s) {
             auto box = computeAabb(info.shapes[std::size_t(s)], xfs[std::size_t(d)]);
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
@@ -498,16 +490,41 @@ void WorldStep<D>::findContacts(H& hooks) {
         [[maybe_unused]] const auto scope = hooks.narrowphaseScope();
         for (int i = 0; i < np; ++i) collidePair(i, mWorkers[0]);
     }
-    // The points gathered in pair order, in parallel from each pair's offset. mContacts keeps its size from the last
-    // step, so only growth is initialised here.
+    // The points gathered in pair order, in parallel from each pair's offset, and with each its island edge, its
+    // warm-start cache entry and its touch pair. Contacts come in nearly ascending key order, so each range starts
+    // with a search and then tries the entry after the last hit first. The per-contact arrays keep their size from
+    // the last step, so only growth is initialised here.
     std::vector<int> offset(std::size_t(np) + 1, 0);
     for (int i = 0; i < np; ++i) offset[std::size_t(i) + 1] = offset[std::size_t(i)] + counts[std::size_t(i)];
-    mContacts.resize(std::size_t(offset[std::size_t(np)]));
+    const std::size_t nc = std::size_t(offset[std::size_t(np)]);
+    mContacts.resize(nc);
+    mEdges.resize(nc);
+    mHit.resize(nc);
+    mNewEntry.resize(nc);
+    mHasEntry.assign(nc, 0);
+    mTouch.resize(nc);
+    const auto& store = hooks.bodies();
     for (Worker& w : mWorkers) w.narrowWork = 0;
     forRanges(np, 256, [&](int begin, int end, Worker& worker) {
+        int hint = -1;
         for (int i = begin; i < end; ++i) {
             worker.narrowWork += pairWork[std::size_t(i)];
-            std::copy_n(slots + std::size_t(i) * kSlots, counts[std::size_t(i)], mContacts.begin() + offset[std::size_t(i)]);
+            for (int k = 0; k < counts[std::size_t(i)]; ++k) {
+                const std::size_t ci = std::size_t(offset[std::size_t(i)] + k);
+                const StepContact<D>& c = mContacts[ci] = slots[std::size_t(i) * kSlots + std::size_t(k)];
+                mEdges[ci] = {c.bodyA, c.bodyB};
+                const int hit = cache.findFrom(keyOf(hooks, c), hint);
+                mHit[ci] = hit;
+                hint = hit >= 0 ? hit + 1 : hint;
+                // Touching with overlap: the pair's keys (a < b), else {0, 0} (no key is 0).
+                std::uint64_t ka = 0, kb = 0;
+                if (c.separation < 0.0) {
+                    ka = touchKey(store.idAt(c.bodyA));
+                    kb = touchKey(store.idAt(c.bodyB));
+                    if (kb < ka) std::swap(ka, kb);
+                }
+                mTouch[ci] = {ka, kb};
+            }
         }
     });
     std::uint64_t narrow = 0;  // a sum of integers: the same in any order
@@ -523,24 +540,7 @@ template <class H>
 void WorldStep<D>::planIslands(H& hooks) {
     auto& cold = hooks.bodies().coldArray();
     const int nb = int(cold.size());
-    const int nc = int(mContacts.size());
-    // Each contact's edge and warm-start entry, in parallel (contacts come in nearly ascending key order: each range
-    // starts with a search and then tries the entry after the last hit first).
-    mEdges.resize(std::size_t(nc));
-    mHit.resize(std::size_t(nc));
-    mNewEntry.resize(std::size_t(nc));
-    mHasEntry.assign(std::size_t(nc), 0);
-    forRanges(nc, 256, [&](int begin, int end, Worker&) {
-        int hint = -1;
-        for (int ci = begin; ci < end; ++ci) {
-            const StepContact<D>& c = mContacts[std::size_t(ci)];
-            mEdges[std::size_t(ci)] = {c.bodyA, c.bodyB};
-            const int hit = cache.findFrom(keyOf(hooks, c), hint);
-            mHit[std::size_t(ci)] = hit;
-            hint = hit >= 0 ? hit + 1 : hint;
-        }
-    });
-    mJoins.resize(std::size_t(nb));  // filled by findContacts
+    // Bodies' dynamic flags and contacts' edges come from findContacts.
     mIslands = buildIslands(nb, mJoins, mEdges);
     const int ni = mIslands.count();
     mStats.islands = ni;
@@ -781,7 +781,9 @@ void WorldStep<D>::mergeResults(H& hooks) {
     const auto& cold = store.coldArray();
     mMotionFault = false;
     for (std::uint8_t f : mIslandFault) mMotionFault = mMotionFault || f != 0;
-    for (int d = 0; d < store.size(); ++d)  // kinematic bodies move on their own
+    int kinematic = 0;
+    for (const Worker& w : mWorkers) kinematic += w.kinematicBodies;
+    for (int d = 0; d < store.size() && kinematic > 0; ++d)  // kinematic bodies move on their own
         if (isKinematic(cold[std::size_t(d)])) {
             hooks.integrate(d, hot[std::size_t(d)].velocity, hot[std::size_t(d)].angularVelocity, dt);
             mMotionFault = mMotionFault || !hooks.motionOk(hot[std::size_t(d)]);
@@ -798,12 +800,10 @@ void WorldStep<D>::mergeResults(H& hooks) {
     mStats.work += mFixedWork;
     // Begin/end events (pairs of bodies touching with overlap) and the deepest overlap.
     TouchPairs now;
-    for (const StepContact<D>& c : mContacts) {
-        if (c.separation < 0.0) {
-            mStats.maxPenetration = std::max(mStats.maxPenetration, -c.separation);
-            std::uint64_t ka = touchKey(store.idAt(c.bodyA)), kb = touchKey(store.idAt(c.bodyB));
-            if (kb < ka) std::swap(ka, kb);
-            now.emplace_back(ka, kb);
+    for (std::size_t ci = 0; ci < mContacts.size(); ++ci) {
+        if (mTouch[ci].first != 0) {
+            mStats.maxPenetration = std::max(mStats.maxPenetration, -mContacts[ci].separation);
+            now.push_back(mTouch[ci]);
         }
     }
     touchEvents(now, touching, mBegin, mEnd);
@@ -817,7 +817,6 @@ void WorldStep<D>::run(H& hooks, const StepControl& control) {
     mStats = StepStats{};
     mStats.budget = control.budget;
     mFixedWork = 0;
-    applyGravity(hooks);
     findContacts(hooks);
     mStats.contacts = int(mContacts.size());
     planIslands(hooks);

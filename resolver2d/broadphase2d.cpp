@@ -27,7 +27,7 @@ std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, cons
     std::vector<SweepEntry> order;
     sweepSort(
         n, [&](int i) { return validBox(boxes[std::size_t(i)]); }, [&](int i) { return boxes[std::size_t(i)].lower.x; },
-        order, cache);
+        order, cache, runner);
 
     return sweepPairs(
         order, [&](int a) { return boxes[std::size_t(a)].upper.x; },

@@ -18,7 +18,7 @@ std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, con
         const Aabb3& b = boxes[std::size_t(i)];
         return b.lower.x() <= b.upper.x() && b.lower.y() <= b.upper.y() && b.lower.z() <= b.upper.z();
     };
-    sweepSort(n, valid, [&](int i) { return boxes[std::size_t(i)].lower.x(); }, order, cache);
+    sweepSort(n, valid, [&](int i) { return boxes[std::size_t(i)].lower.x(); }, order, cache, runner);
     auto isInactive = [&](int i) { return !inactive.empty() && inactive[std::size_t(i)] != 0; };
     return sweepPairs(
         order, [&](int a) { return boxes[std::size_t(a)].upper.x(); },
