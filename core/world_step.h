@@ -4,9 +4,9 @@
 //   findContacts       in parallel over bodies: gravity into awake dynamic bodies' velocities, then proxies with
 //                      their speculative reach; the broadphase, the narrowphase, and the gathering of its points in
 //                      pair order with each contact's edge, cache entry and touch pair, each in parallel
-//   planIslands        each contact's edge and cache entry (in parallel), islands by union-find (core/island);
-//                      then in parallel over islands: sleeping ones keep their cache entries, awake ones wake their
-//                      bodies; each awake island with contacts becomes a job with its predicted work and reserve
+//   planIslands        islands by union-find (core/island), then in parallel over islands: sleeping ones keep
+//                      their cache entries, awake ones wake their bodies; each awake island with contacts becomes a
+//                      job with its predicted work and reserve
 //   solveIslands       the budget split (core/step_budget), then exact solves (core/world_step_island.h) in two
 //                      passes and the bounded approximation (core/pgs.h) for what the budget left unsolved, each
 //                      pass in parallel over islands; without a budget, each island is integrated (finishIsland)
