@@ -15,24 +15,37 @@ int findRoot(std::vector<int>& parent, int x) {
     return x;
 }
 
-// Turns per-island counts (count) into offsets (count + 1) starting at 0.
-std::vector<int> prefixSums(const std::vector<int>& counts) {
-    std::vector<int> start(counts.size() + 1, 0);
-    for (std::size_t k = 0; k < counts.size(); ++k) start[k + 1] = start[k] + counts[k];
-    return start;
+// Turns per-island counts (counts[0..k)) into offsets (k + 1 entries, starting at 0) in place.
+void prefixSumsInPlace(std::vector<int>& counts) {
+    int sum = 0;
+    for (int& c : counts) {
+        const int n = c;
+        c = sum;
+        sum += n;
+    }
+    counts.push_back(sum);
 }
 
 }  // namespace
 
 Islands buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIslands,
                      const std::vector<IslandEdge>& edges) {
+    Islands out;
+    std::vector<int> scratch;
+    buildIslands(bodyCount, joinsIslands, edges, out, scratch);
+    return out;
+}
+
+void buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIslands, const std::vector<IslandEdge>& edges,
+                  Islands& out, std::vector<int>& scratch) {
     const int n = bodyCount < 0 ? 0 : bodyCount;
     auto joins = [&](int i) {
         return i >= 0 && i < n && std::size_t(i) < joinsIslands.size() && joinsIslands[std::size_t(i)] != 0;
     };
 
     // Union by index: the smaller root wins, so every root is the smallest body of its set.
-    std::vector<int> parent(static_cast<std::size_t>(n));
+    std::vector<int>& parent = scratch;
+    parent.resize(std::size_t(n));
     for (int i = 0; i < n; ++i) parent[std::size_t(i)] = i;
     for (const IslandEdge& e : edges) {
         if (!joins(e.a) || !joins(e.b)) continue;  // statics never merge islands
@@ -43,10 +56,11 @@ Islands buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIsland
     }
 
     // Number islands in ascending order of their root. A root is its set's smallest index, so it is met before
-    // any other member in this ascending scan, and islands come out ordered by smallest body index.
-    Islands out;
+    // any other member in this ascending scan, and islands come out ordered by smallest body index. bodyStart holds
+    // each island's body count until the prefix sums.
     out.islandOf.assign(std::size_t(n), -1);
-    std::vector<int> bodyCounts;
+    std::vector<int>& bodyCounts = out.bodyStart;
+    bodyCounts.clear();
     for (int i = 0; i < n; ++i) {
         if (!joins(i)) continue;
         const int root = findRoot(parent, i);
@@ -58,34 +72,35 @@ Islands buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIsland
         }
         ++bodyCounts[std::size_t(out.islandOf[std::size_t(i)])];
     }
+    const std::size_t islands = bodyCounts.size();
 
-    // Counting sort of bodies by island; the ascending scan keeps bodies ascending inside each island.
-    out.bodyStart = prefixSums(bodyCounts);
+    // Counting sort of bodies by island; the ascending scan keeps bodies ascending inside each island. The union-find
+    // is done, so its buffer becomes the cursors.
+    prefixSumsInPlace(out.bodyStart);
     out.bodies.resize(std::size_t(out.bodyStart.back()));
-    std::vector<int> cursor(out.bodyStart.begin(), out.bodyStart.end() - 1);
+    std::vector<int>& cursor = scratch;
+    cursor.assign(out.bodyStart.begin(), out.bodyStart.end() - 1);
     for (int i = 0; i < n; ++i) {
         const int k = out.islandOf[std::size_t(i)];
         if (k >= 0) out.bodies[std::size_t(cursor[std::size_t(k)]++)] = i;
     }
 
     // Each edge goes to the island of a joining endpoint (both endpoints agree when both join), or is dropped.
-    std::vector<int> edgeIsland(edges.size(), -1);
-    std::vector<int> edgeCounts(bodyCounts.size(), 0);
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-        const IslandEdge& edge = edges[e];
-        const int k = joins(edge.a) ? out.islandOf[std::size_t(edge.a)]
-                                    : joins(edge.b) ? out.islandOf[std::size_t(edge.b)] : -1;
-        edgeIsland[e] = k;
-        if (k >= 0) ++edgeCounts[std::size_t(k)];
+    auto edgeIsland = [&](const IslandEdge& edge) {
+        return joins(edge.a) ? out.islandOf[std::size_t(edge.a)] : joins(edge.b) ? out.islandOf[std::size_t(edge.b)] : -1;
+    };
+    out.edgeStart.assign(islands, 0);
+    for (const IslandEdge& edge : edges) {
+        const int k = edgeIsland(edge);
+        if (k >= 0) ++out.edgeStart[std::size_t(k)];
     }
-    out.edgeStart = prefixSums(edgeCounts);
+    prefixSumsInPlace(out.edgeStart);
     out.edges.resize(std::size_t(out.edgeStart.back()));
     cursor.assign(out.edgeStart.begin(), out.edgeStart.end() - 1);
     for (std::size_t e = 0; e < edges.size(); ++e) {
-        const int k = edgeIsland[e];
+        const int k = edgeIsland(edges[e]);
         if (k >= 0) out.edges[std::size_t(cursor[std::size_t(k)]++)] = int(e);
     }
-    return out;
 }
 
 bool islandCanSleep(const Islands& islands, int island, const std::vector<double>& sleepTime, double timeToSleep) {

@@ -48,6 +48,10 @@ struct Islands {
 Islands buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIslands,
                      const std::vector<IslandEdge>& edges);
 
+/// buildIslands into `out`, reusing its buffers and `scratch` (a world step calls it every step); the same result.
+void buildIslands(int bodyCount, const std::vector<std::uint8_t>& joinsIslands, const std::vector<IslandEdge>& edges,
+                  Islands& out, std::vector<int>& scratch);
+
 /// True when every body of island `island` has sleepTime (indexed by dense body index, seconds) >= timeToSleep.
 /// False for an island index out of range, a body without a sleepTime entry, or a NaN sleep time.
 bool islandCanSleep(const Islands& islands, int island, const std::vector<double>& sleepTime, double timeToSleep);

@@ -285,6 +285,7 @@ private:
     std::vector<std::uint8_t> mHasEntry;  // per contact: 1 when its island wrote mNewEntry
     std::vector<StepContact<D>> mSlots;   // the narrowphase's points, kSlots per broadphase pair
     Islands mIslands;
+    std::vector<int> mIslandScratch;      // buildIslands' union-find, kept for its capacity
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<int> mBareIslands;        // awake islands without contacts (no job), island order
     bool mFinishedInSolve = false;        // this step integrated each job's island right after its solve
@@ -541,7 +542,7 @@ void WorldStep<D>::planIslands(H& hooks) {
     auto& cold = hooks.bodies().coldArray();
     const int nb = int(cold.size());
     // Bodies' dynamic flags and contacts' edges come from findContacts.
-    mIslands = buildIslands(nb, mJoins, mEdges);
+    buildIslands(nb, mJoins, mEdges, mIslands, mIslandScratch);
     const int ni = mIslands.count();
     mStats.islands = ni;
     mFixedWork += work::kPerContact * mContacts.size();

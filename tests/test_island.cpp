@@ -238,6 +238,30 @@ TEST_CASE("10k-body random graph agrees with a BFS reference") {
     CHECK(is.count() > 100);
 }
 
+TEST_CASE("building into reused buffers gives the fresh build's islands, whatever the buffers held before") {
+    // A world step builds its islands every step into the same Islands and scratch: graphs of different sizes one
+    // after another (a big one, an empty one, small ones) must each come out as a fresh build does.
+    Lcg rng{11};
+    Islands out;
+    std::vector<int> scratch;
+    for (int n : {3000, 0, 7, 2500, 1, 40, 3000}) {
+        std::vector<std::uint8_t> joins(static_cast<std::size_t>(n));
+        for (auto& j : joins) j = rng.next() % 6 == 0 ? 0 : 1;
+        std::vector<IslandEdge> edges(static_cast<std::size_t>(n) / 2 + 1);
+        for (auto& e : edges) e = n > 0 ? IslandEdge{int(rng.next() % n), int(rng.next() % n)} : IslandEdge{0, 0};
+        if (n == 0) edges.clear();
+        buildIslands(n, joins, edges, out, scratch);
+        const Islands fresh = buildIslands(n, joins, edges);
+        CAPTURE(n);
+        checkWellFormed(out, n, joins, edges);
+        CHECK(out.bodyStart == fresh.bodyStart);
+        CHECK(out.bodies == fresh.bodies);
+        CHECK(out.edgeStart == fresh.edgeStart);
+        CHECK(out.edges == fresh.edges);
+        CHECK(out.islandOf == fresh.islandOf);
+    }
+}
+
 TEST_CASE("an island can sleep only when all its bodies have rested long enough") {
     const std::vector<std::uint8_t> joins{1, 1, 0, 1};
     const Islands is = buildIslands(4, joins, {{0, 1}, {1, 2}});
