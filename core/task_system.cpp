@@ -48,12 +48,25 @@ ThreadPool::~ThreadPool() {
 }
 
 bool ThreadPool::runOne(Task& task, int worker) {
-    const int r = task.next.fetch_add(1, std::memory_order_relaxed);
-    if (r >= task.rangeCount) return false;
-    const int begin = r * task.rangeSize;
-    const int end = begin + task.rangeSize < task.itemCount ? begin + task.rangeSize : task.itemCount;
-    task.callback(begin, end, worker, task.context);
-    return true;
+    // The worker's own block first, then the others' in turn: consecutive parallel sections of a step give each
+    // worker about the same items (bodies, their pairs, their islands), which are then still in its cache.
+    for (int k = 0; k < task.blockCount; ++k) {
+        Block& block = task.blocks[std::size_t((worker + k) % task.blockCount)];
+        if (block.next.load(std::memory_order_relaxed) >= block.end) continue;
+        const int r = block.next.fetch_add(1, std::memory_order_relaxed);
+        if (r >= block.end) continue;
+        const int begin = r * task.rangeSize;
+        const int end = begin + task.rangeSize < task.itemCount ? begin + task.rangeSize : task.itemCount;
+        task.callback(begin, end, worker, task.context);
+        return true;
+    }
+    return false;
+}
+
+bool ThreadPool::hasRanges(const Task& task) {
+    for (int k = 0; k < task.blockCount; ++k)
+        if (task.blocks[std::size_t(k)].next.load(std::memory_order_relaxed) < task.blocks[std::size_t(k)].end) return true;
+    return false;
 }
 
 void* ThreadPool::enqueue(TaskCallback* callback, int itemCount, int minRange, void* taskContext, void* poolPtr) {
@@ -66,6 +79,12 @@ void* ThreadPool::enqueue(TaskCallback* callback, int itemCount, int minRange, v
     const int want = (itemCount + 8 * pool.mWorkerCount - 1) / (8 * pool.mWorkerCount);
     task->rangeSize = want > minRange ? want : minRange;
     task->rangeCount = (itemCount + task->rangeSize - 1) / task->rangeSize;
+    task->blockCount = pool.mWorkerCount;
+    task->blocks.reset(new Block[std::size_t(task->blockCount)]);
+    for (int w = 0; w < task->blockCount; ++w) {
+        task->blocks[std::size_t(w)].next.store(int(std::int64_t(task->rangeCount) * w / task->blockCount), std::memory_order_relaxed);
+        task->blocks[std::size_t(w)].end = int(std::int64_t(task->rangeCount) * (w + 1) / task->blockCount);
+    }
     Task* handle = task.get();
     {
         std::lock_guard<std::mutex> lock(pool.mMutex);
@@ -111,7 +130,7 @@ void ThreadPool::workerLoop(int worker) {
                 if (mStop) return;
                 seen = mEnqueued.load(std::memory_order_relaxed);
                 for (auto& t : mTasks) {
-                    if (t->next.load(std::memory_order_relaxed) < t->rangeCount) {
+                    if (hasRanges(*t)) {
                         task = t.get();
                         ++task->users;
                         break;

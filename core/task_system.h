@@ -46,6 +46,8 @@ TaskSystem taskFieldsOf(const Def& def) {
 
 /// A fixed set of workerCount - 1 std::threads; the thread that finishes a task works on it too, as worker 0.
 /// Tasks are taken first-in first-out in ranges; one thread at a time enqueues and finishes (the world's step).
+/// A task's ranges are split into one contiguous block per worker; each worker takes its own block's ranges in
+/// order, then takes the ranges left in the other blocks.
 class ThreadPool {
 public:
     /// Starts workerCount - 1 threads (none for workerCount <= 1).
@@ -61,16 +63,25 @@ public:
     static void finish(void* handle, void* pool);
 
 private:
+    /// A worker's own share of a task's ranges: the contiguous block [first, end) it takes from the front, and which
+    /// the others take from once their own blocks are empty. Each on its own cache line.
+    struct alignas(64) Block {
+        std::atomic<int> next{0};  // next range of the block to hand out
+        int end = 0;
+    };
     struct Task {
         TaskCallback* callback = nullptr;
         void* context = nullptr;
         int itemCount = 0, rangeSize = 1, rangeCount = 0;
-        std::atomic<int> next{0};  // next range to hand out
+        std::unique_ptr<Block[]> blocks;  // one per worker
+        int blockCount = 0;
         std::atomic<int> done{0};  // ranges finished
         std::atomic<int> users{0};  // pool threads working on it (changed under the pool's mutex, read by finish())
     };
     /// Runs one range of `task` on `worker`; false when it had none left.
     static bool runOne(Task& task, int worker);
+    /// Some range of `task` is not handed out yet.
+    static bool hasRanges(const Task& task);
     void workerLoop(int worker);
 
     int mWorkerCount = 1;
