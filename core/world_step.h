@@ -215,6 +215,7 @@ private:
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
         std::uint64_t narrowWork = 0;  // the narrowphase's work units of the pairs this worker gathered
         int kinematicBodies = 0;      // kinematic bodies this worker met in findContacts' body pass
+        bool graphChanged = false;    // findContacts: a body's flag or a contact's edge this worker wrote differs
         StepStats solved;             // counts of the island solves this worker ran (merged by accumulate())
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -287,12 +288,15 @@ private:
     std::vector<StepContact<D>> mSlots;   // the narrowphase's points, kSlots per broadphase pair
     Islands mIslands;
     std::vector<int> mIslandScratch;      // buildIslands' union-find, kept for its capacity
+    bool mIslandsBuilt = false;           // mIslands is buildIslands(mJoins, mEdges) (kept while neither changes)
+    bool mGraphChanged = true;            // this step's mJoins or mEdges differ from the last step's
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<int> mBareIslands;        // awake islands without contacts (no job), island order
     bool mFinishedInSolve = false;        // this step integrated each job's island right after its solve
     std::vector<std::uint64_t> mIslandNeed;  // per awake island with contacts, with a budget: predictedNeed()
     std::vector<std::uint8_t> mJoins;     // per body: 1 when it joins islands (dynamic), from findContacts
-    std::vector<IslandEdge> mEdges;       // per contact: its two bodies
+    std::vector<IslandEdge> mEdges;       // per contact: its two bodies (mJoins and mEdges are rewritten in place, so
+                                          // each write can compare with the last step's value)
     std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouch;  // per contact: its touch pair, {0, 0} if none
     std::vector<Job> mJobs;               // awake islands with contacts, island order
     std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
@@ -366,8 +370,10 @@ template <class H>
 void WorldStep<D>::planIslands(H& hooks) {
     auto& cold = hooks.bodies().coldArray();
     const int nb = int(cold.size());
-    // Bodies' dynamic flags and contacts' edges come from findContacts.
-    buildIslands(nb, mJoins, mEdges, mIslands, mIslandScratch);
+    // Bodies' dynamic flags and contacts' edges come from findContacts. The islands are a function of them alone,
+    // so when neither changed since the last build (a resting scene), last step's islands are this step's.
+    if (mGraphChanged || !mIslandsBuilt) buildIslands(nb, mJoins, mEdges, mIslands, mIslandScratch);
+    mIslandsBuilt = true;
     const int ni = mIslands.count();
     mStats.islands = ni;
     mFixedWork += work::kPerContact * mContacts.size();

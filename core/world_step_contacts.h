@@ -41,9 +41,13 @@ void WorldStep<D>::findContacts(H& hooks) {
         return D::dot(n, D::sub(va, vb));
     };
     auto length = [](const Vec& v) { return std::sqrt(D::dot(v, v)); };
+    mGraphChanged = int(mJoins.size()) != nb;
     mJoins.resize(std::size_t(nb));
     if (mWorkers.empty()) mWorkers.resize(1);
-    for (Worker& w : mWorkers) w.kinematicBodies = 0;
+    for (Worker& w : mWorkers) {
+        w.kinematicBodies = 0;
+        w.graphChanged = false;
+    }
     forEach(nb, 64, [&](int d, Worker& worker) {
         auto& st = hot[std::size_t(d)];
         const auto& info = cold[std::size_t(d)];
@@ -51,7 +55,9 @@ void WorldStep<D>::findContacts(H& hooks) {
         if (world_step_detail::isKinematic(info)) ++worker.kinematicBodies;
         if (dynamic && info.awake) st.velocity = D::add(st.velocity, D::scale(dt, def.gravity));  // external forces
         xfs[std::size_t(d)] = hooks.transform(st);
-        mJoins[std::size_t(d)] = dynamic ? 1 : 0;
+        const std::uint8_t joins = dynamic ? 1 : 0;
+        worker.graphChanged = worker.graphChanged || mJoins[std::size_t(d)] != joins;
+        mJoins[std::size_t(d)] = joins;
         for (int s = 0; s < int(info.shapes.size()); ++s) {
             auto box = computeAabb(info.shapes[std::size_t(s)], xfs[std::size_t(d)]);
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
@@ -150,6 +156,7 @@ void WorldStep<D>::findContacts(H& hooks) {
     for (int i = 0; i < np; ++i) offset[std::size_t(i) + 1] = offset[std::size_t(i)] + counts[std::size_t(i)];
     const std::size_t nc = std::size_t(offset[std::size_t(np)]);
     mContacts.resize(nc);
+    mGraphChanged = mGraphChanged || mEdges.size() != nc;
     mEdges.resize(nc);
     mHit.resize(nc);
     mNewEntry.resize(nc);
@@ -164,6 +171,7 @@ void WorldStep<D>::findContacts(H& hooks) {
             for (int k = 0; k < counts[std::size_t(i)]; ++k) {
                 const std::size_t ci = std::size_t(offset[std::size_t(i)] + k);
                 const StepContact<D>& c = mContacts[ci] = slots[std::size_t(i) * kSlots + std::size_t(k)];
+                worker.graphChanged = worker.graphChanged || mEdges[ci].a != c.bodyA || mEdges[ci].b != c.bodyB;
                 mEdges[ci] = {c.bodyA, c.bodyB};
                 const int hit = cache.findFrom(keyOf(hooks, c), hint);
                 mHit[ci] = hit;
@@ -183,6 +191,7 @@ void WorldStep<D>::findContacts(H& hooks) {
     for (const Worker& w : mWorkers) {
         narrow += w.narrowWork;
         mStats.candidates += w.collide.candidates;
+        mGraphChanged = mGraphChanged || w.graphChanged;
     }
     mFixedWork += work::kPerBody * hot.size() + work::kPerShape * proxies.size() + work::kPerPair * pairs.size() + narrow;
 }
