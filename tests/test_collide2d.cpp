@@ -387,7 +387,7 @@ TEST_CASE("broadphase: 2000 random boxes, sort-and-sweep equals brute force") {
     CHECK(calls == 7);  // 2000 boxes in chunks of about 256 sorted boxes
 }
 
-TEST_CASE("broadphase: the pairs' counting sort orders as std::sort does, with a ground met by every box") {
+TEST_CASE("broadphase: the pairs' counting sort orders as std::sort does, with a ground met by every box, sorted or not") {
     std::uint64_t state = 0x9E3779B97F4A7C15ull;
     auto next = [&](int n) {
         state = state * 6364136223846793005ull + 1442695040888963407ull;
@@ -407,6 +407,15 @@ TEST_CASE("broadphase: the pairs' counting sort orders as std::sort does, with a
         for (std::size_t i = 1; i < shuffled.size(); i += 2) std::swap(shuffled[i], shuffled[i / 2]);
         sortPairs(shuffled);
         CHECK(shuffled == pairs);
+        std::vector<std::pair<int, int>> sorted = pairs;  // already sorted: left as it is
+        sortPairs(sorted);
+        CHECK(sorted == pairs);
+        if (pairs.size() >= 2) {  // sorted but for the last two
+            std::vector<std::pair<int, int>> nearly = pairs;
+            std::swap(nearly[nearly.size() - 1], nearly[nearly.size() - 2]);
+            sortPairs(nearly);
+            CHECK(nearly == pairs);
+        }
     }
 }
 
