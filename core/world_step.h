@@ -624,11 +624,17 @@ void WorldStep<D>::mergeResults(H& hooks) {
     for (const Job& job : mJobs) mStats.work += job.work;
     // The next cache in contact order: contacts come in body-pair order, which is nearly the key order, so the sort
     // in replace() has little to do (in island order, each island's contacts with the ground would be far apart).
-    std::vector<ContactKey> newCache;
-    newCache.reserve(mContacts.size());
-    for (std::size_t ci = 0; ci < mContacts.size(); ++ci)
-        if (mHasEntry[ci]) newCache.push_back(mNewEntry[ci]);
-    cache.replace(newCache);
+    // When every contact wrote its entry (the usual case), the entries are handed over as they are, without a copy;
+    // the old cache's buffer becomes the next step's mNewEntry, whose entries are all written before they are read.
+    if (std::find(mHasEntry.begin(), mHasEntry.end(), std::uint8_t(0)) == mHasEntry.end()) {
+        cache.replace(mNewEntry);
+    } else {
+        std::vector<ContactKey> newCache;
+        newCache.reserve(mContacts.size());
+        for (std::size_t ci = 0; ci < mContacts.size(); ++ci)
+            if (mHasEntry[ci]) newCache.push_back(mNewEntry[ci]);
+        cache.replace(newCache);
+    }
     mStats.work += mFixedWork;
     // Begin/end events (pairs of bodies touching with overlap) and the deepest overlap.
     TouchPairs now;
