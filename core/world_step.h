@@ -216,6 +216,7 @@ private:
         std::uint64_t narrowWork = 0;  // the narrowphase's work units of the pairs this worker gathered
         int kinematicBodies = 0;      // kinematic bodies this worker met in findContacts' body pass
         bool graphChanged = false;    // findContacts: a body's flag or a contact's edge this worker wrote differs
+        bool sleepers = false;        // findContacts: this worker met a dynamic body that is asleep
         StepStats solved;             // counts of the island solves this worker ran (merged by accumulate())
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -290,6 +291,7 @@ private:
     std::vector<int> mIslandScratch;      // buildIslands' union-find, kept for its capacity
     bool mIslandsBuilt = false;           // mIslands is buildIslands(mJoins, mEdges) (kept while neither changes)
     bool mGraphChanged = true;            // this step's mJoins or mEdges differ from the last step's
+    bool mAllAwake = false;               // every dynamic body was awake when the step began (findContacts)
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<int> mBareIslands;        // awake islands without contacts (no job), island order
     bool mFinishedInSolve = false;        // this step integrated each job's island right after its solve
@@ -378,27 +380,33 @@ void WorldStep<D>::planIslands(H& hooks) {
     mStats.islands = ni;
     mFixedWork += work::kPerContact * mContacts.size();
     // Each island in parallel: a sleeping one keeps its warm-start data; an awake one wakes all its bodies and, with
-    // a budget, gets its predicted need.
-    mAwake.assign(std::size_t(ni), 0);
-    if (mControl.budget > 0) mIslandNeed.resize(std::size_t(ni));
-    forEach(ni, 64, [&](int isl, Worker&) {
-        const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
-        const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
-        bool anyAwake = false;
-        for (int j = b0; j < b1 && !anyAwake; ++j) anyAwake = cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
-        if (!anyAwake) {
-            for (int j = e0; j < e1; ++j) {
-                const int ci = mIslands.edges[std::size_t(j)];
-                if (mHit[std::size_t(ci)] < 0) continue;
-                mNewEntry[std::size_t(ci)] = cache.at(mHit[std::size_t(ci)]);
-                mHasEntry[std::size_t(ci)] = 1;
+    // a budget, gets its predicted need. Without a budget and with every body awake (always so when sleeping is off),
+    // that pass would only mark every island awake.
+    if (mAllAwake && mControl.budget == 0) {
+        mAwake.assign(std::size_t(ni), 1);
+    } else {
+        mAwake.assign(std::size_t(ni), 0);
+        if (mControl.budget > 0) mIslandNeed.resize(std::size_t(ni));
+        forEach(ni, 64, [&](int isl, Worker&) {
+            const int b0 = mIslands.bodyStart[std::size_t(isl)], b1 = mIslands.bodyStart[std::size_t(isl) + 1];
+            const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
+            bool anyAwake = false;
+            for (int j = b0; j < b1 && !anyAwake; ++j)
+                anyAwake = cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake;
+            if (!anyAwake) {
+                for (int j = e0; j < e1; ++j) {
+                    const int ci = mIslands.edges[std::size_t(j)];
+                    if (mHit[std::size_t(ci)] < 0) continue;
+                    mNewEntry[std::size_t(ci)] = cache.at(mHit[std::size_t(ci)]);
+                    mHasEntry[std::size_t(ci)] = 1;
+                }
+                return;
             }
-            return;
-        }
-        mAwake[std::size_t(isl)] = 1;
-        for (int j = b0; j < b1; ++j) cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake = true;
-        if (mControl.budget > 0 && e1 > e0) mIslandNeed[std::size_t(isl)] = predictedNeed(hooks, isl);
-    });
+            mAwake[std::size_t(isl)] = 1;
+            for (int j = b0; j < b1; ++j) cold[std::size_t(mIslands.bodies[std::size_t(j)])].awake = true;
+            if (mControl.budget > 0 && e1 > e0) mIslandNeed[std::size_t(isl)] = predictedNeed(hooks, isl);
+        });
+    }
     // The jobs: awake islands with contacts, in island order.
     mJobs.clear();
     mBareIslands.clear();

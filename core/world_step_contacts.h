@@ -47,6 +47,7 @@ void WorldStep<D>::findContacts(H& hooks) {
     for (Worker& w : mWorkers) {
         w.kinematicBodies = 0;
         w.graphChanged = false;
+        w.sleepers = false;
     }
     forEach(nb, 64, [&](int d, Worker& worker) {
         auto& st = hot[std::size_t(d)];
@@ -54,6 +55,7 @@ void WorldStep<D>::findContacts(H& hooks) {
         const bool dynamic = world_step_detail::isDynamic(info);
         if (world_step_detail::isKinematic(info)) ++worker.kinematicBodies;
         if (dynamic && info.awake) st.velocity = D::add(st.velocity, D::scale(dt, def.gravity));  // external forces
+        worker.sleepers = worker.sleepers || (dynamic && !info.awake);
         xfs[std::size_t(d)] = hooks.transform(st);
         const std::uint8_t joins = dynamic ? 1 : 0;
         worker.graphChanged = worker.graphChanged || mJoins[std::size_t(d)] != joins;
@@ -85,6 +87,8 @@ void WorldStep<D>::findContacts(H& hooks) {
             inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
     });
+    mAllAwake = true;
+    for (const Worker& w : mWorkers) mAllAwake = mAllAwake && !w.sleepers;
     // The sweep over the sorted boxes in parallel chunks (the sorted pairs do not depend on them).
     const ChunkRunner sweepRunner = [this](int chunks, const std::function<void(int)>& fn) {
         forEach(chunks, 1, [&](int c, Worker&) { fn(c); });
