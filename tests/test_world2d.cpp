@@ -75,6 +75,26 @@ TEST_CASE("a box dropped on the ground comes to rest on it, and sleeps") {
     CHECK_FALSE(world.info(box)->awake);
 }
 
+TEST_CASE("a box landing on a sleeping box wakes it, and both come to rest stacked") {
+    World2 world;
+    const BodyId below = addGroundAndBox(world, 0.5);
+    for (int i = 0; i < 240; ++i) world.step();
+    REQUIRE_FALSE(world.info(below)->awake);
+    BodyDef2 def;
+    def.position = {0.2, 3.0};
+    const BodyId above = world.createBody(def, {boxShape(0.5, 0.5)});
+    bool woke = false;
+    for (int i = 0; i < 60 && !woke; ++i) {
+        world.step();
+        woke = world.info(below)->awake;
+    }
+    CHECK(woke);  // the contact joined the sleeping box's island, and the island woke
+    for (int i = 0; i < 300; ++i) world.step();
+    CHECK(world.state(below)->position.y == doctest::Approx(0.5).epsilon(0.02));
+    CHECK(world.state(above)->position.y == doctest::Approx(1.5).epsilon(0.02));
+    CHECK(world.stats().failedIslands == 0);
+}
+
 TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form") {
     const auto scene = scenes::readSceneFile(scenes::sceneDir() + "/cradle.json");
     auto loaded = scenes::loadScene2(scene, "cradle.json");
