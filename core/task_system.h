@@ -63,8 +63,8 @@ public:
     static void finish(void* handle, void* pool);
 
 private:
-    /// A worker's own share of a task's ranges: the contiguous block [first, end) it takes from the front, and which
-    /// the others take from once their own blocks are empty. Each on its own cache line.
+    /// A worker's own share of a task's ranges: a contiguous block of them, up to `end`, handed out from the front to
+    /// its worker first and to the others once their own blocks are empty. Each on its own cache line.
     struct alignas(64) Block {
         std::atomic<int> next{0};  // next range of the block to hand out
         int end = 0;
