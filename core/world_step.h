@@ -153,6 +153,12 @@ public:
     /// Some body the last run() moved left the supported ranges (hooks.motionOk): only then need the world scan its
     /// bodies for the fault message. Bodies a step does not move keep the state the API checked when it was set.
     bool motionFault() const { return mMotionFault; }
+    /// Runs fn(begin, end) over ranges of [0, count) on the threads of the last run() (its task system): for the
+    /// world's own per-step passes after run(), such as its contact list. Each range must write only its own items.
+    template <class Fn>
+    void forEachRange(int count, int minRange, Fn&& fn) {
+        forRanges(count, minRange, [&](int begin, int end, Worker&) { fn(begin, end); });
+    }
     /// Takes over `other`'s thread pool and per-worker buffers (not state: a world restored from a snapshot keeps
     /// its threads).
     void takeScratch(WorldStep& other) {
@@ -291,6 +297,8 @@ private:
     std::vector<int> mIslandScratch;      // buildIslands' union-find, kept for its capacity
     bool mIslandsBuilt = false;           // mIslands is buildIslands(mJoins, mEdges) (kept while neither changes)
     bool mGraphChanged = true;            // this step's mJoins or mEdges differ from the last step's
+    bool mJobsKept = false;               // mJobs were built with every island awake and no budget (see planIslands)
+    bool mJobsDescending = true;          // mJobs' contact counts never increase (then they are in solve order)
     bool mAllAwake = false;               // every dynamic body was awake when the step began (findContacts)
     std::vector<std::uint8_t> mAwake;     // per island: solved and integrated this step
     std::vector<int> mBareIslands;        // awake islands without contacts (no job), island order
@@ -302,7 +310,7 @@ private:
     std::vector<std::pair<std::uint64_t, std::uint64_t>> mTouch;  // per contact: its touch pair, {0, 0} if none
     std::vector<Job> mJobs;               // awake islands with contacts, island order
     std::uint64_t mFixedWork = 0;         // collision and bookkeeping of this step
-    std::vector<Move> mMove;              // dense body -> position velocities of this step
+    std::vector<Move> mMove;              // dense body -> position velocities of this step (unset between steps)
     std::vector<TouchEvent> mBegin, mEnd;
     StepStats mStats;
 };
@@ -374,7 +382,8 @@ void WorldStep<D>::planIslands(H& hooks) {
     const int nb = int(cold.size());
     // Bodies' dynamic flags and contacts' edges come from findContacts. The islands are a function of them alone,
     // so when neither changed since the last build (a resting scene), last step's islands are this step's.
-    if (mGraphChanged || !mIslandsBuilt) buildIslands(nb, mJoins, mEdges, mIslands, mIslandScratch);
+    const bool islandsKept = mIslandsBuilt && !mGraphChanged;
+    if (!islandsKept) buildIslands(nb, mJoins, mEdges, mIslands, mIslandScratch);
     mIslandsBuilt = true;
     const int ni = mIslands.count();
     mStats.islands = ni;
@@ -407,9 +416,18 @@ void WorldStep<D>::planIslands(H& hooks) {
             if (mControl.budget > 0 && e1 > e0) mIslandNeed[std::size_t(isl)] = predictedNeed(hooks, isl);
         });
     }
-    // The jobs: awake islands with contacts, in island order.
+    // The jobs: awake islands with contacts, in island order. Without a budget, with every island awake and the
+    // islands kept, they are last step's (built under the same conditions): a job holds only what the island and
+    // its contact count give, and the solve pass resets the fields a solve writes.
+    const bool allAwakeUnbudgeted = mAllAwake && mControl.budget == 0;
+    if (allAwakeUnbudgeted && islandsKept && mJobsKept) {
+        mStats.awakeIslands = ni;
+        return;
+    }
+    mJobsKept = allAwakeUnbudgeted;
     mJobs.clear();
     mBareIslands.clear();
+    mJobsDescending = true;
     constexpr std::uint64_t kRows = std::uint64_t(pgsTangentRows<D>() + 1);
     for (int isl = 0; isl < ni; ++isl) {
         if (!mAwake[std::size_t(isl)]) continue;
@@ -419,6 +437,7 @@ void WorldStep<D>::planIslands(H& hooks) {
             mBareIslands.push_back(isl);
             continue;
         }
+        mJobsDescending = mJobsDescending && (mJobs.empty() || mJobs.back().contactCount >= count);
         Job& job = mJobs.emplace_back();
         job.island = isl;
         job.contactCount = count;
@@ -468,8 +487,9 @@ void WorldStep<D>::solveIslands(H& hooks) {
     // Big islands first, so that one long solve does not start last on a thread (any order gives the same answer).
     // A counting sort by contact count, descending, jobs of equal count in job order (as a sort by (count desc,
     // job) would give, in O(jobs + largest count)).
-    std::vector<int> order(static_cast<std::size_t>(nj));
-    {
+    // (Jobs already in that order, as when every island has the same count, are taken as they are.)
+    std::vector<int> order(mJobsDescending ? 0 : static_cast<std::size_t>(nj));
+    if (!mJobsDescending) {
         int most = 0;
         for (const Job& job : mJobs) most = std::max(most, job.contactCount);
         std::vector<int> at(std::size_t(most) + 2, 0);  // at[most - c + 1]: jobs with more contacts than c
@@ -478,7 +498,9 @@ void WorldStep<D>::solveIslands(H& hooks) {
         for (int j = 0; j < nj; ++j) order[std::size_t(at[std::size_t(most - mJobs[std::size_t(j)].contactCount)]++)] = j;
     }
     auto runPass = [&](auto&& fn) {
-        forEach(nj, 1, [&](int i, Worker& worker) { fn(mJobs[std::size_t(order[std::size_t(i)])], worker); });
+        forEach(nj, 1, [&](int i, Worker& worker) {
+            fn(mJobs[std::size_t(mJobsDescending ? i : order[std::size_t(i)])], worker);
+        });
     };
     // Analyses unused for a whole step are dropped (found or not, an analysis never changes an answer).
     if (mWorkers.empty()) mWorkers.resize(1);
@@ -495,6 +517,8 @@ void WorldStep<D>::solveIslands(H& hooks) {
         // Each island is integrated right after its solve, on the same thread, while its bodies are in its cache
         // (the integration reads nothing of other islands).
         runPass([&](Job& job, Worker& worker) {
+            job.work = 0;  // kept jobs (planIslands) come with last step's
+            job.state = State::pending;
             solveIsland(hooks, job, worker);
             finishIsland(hooks, job.island);
         });
@@ -578,11 +602,13 @@ void WorldStep<D>::finishIsland(H& hooks, int isl) {
         const int d = mIslands.bodies[std::size_t(j)];
         auto& s = hot[std::size_t(d)];
         auto& info = cold[std::size_t(d)];
-        const Move& move = mMove[std::size_t(d)];
-        if (move.set)
+        Move& move = mMove[std::size_t(d)];
+        if (move.set) {
             hooks.integrate(d, move.velocity, move.angularVelocity, dt);
-        else
+            move.set = false;  // used: the next step starts with every entry unset
+        } else {
             hooks.integrate(d, s.velocity, s.angularVelocity, dt);
+        }
         const bool slow = D::dot(s.velocity, s.velocity) <= def.linearSleepTolerance * def.linearSleepTolerance &&
                           D::angWithin(s.angularVelocity, def.angularSleepTolerance);
         info.sleepTime = slow ? info.sleepTime + dt : 0.0;
@@ -666,7 +692,9 @@ void WorldStep<D>::run(H& hooks, const StepControl& control) {
     findContacts(hooks);
     mStats.contacts = int(mContacts.size());
     planIslands(hooks);
-    mMove.assign(hooks.bodies().hotArray().size(), Move{});
+    // Every entry is unset here: finishIsland unsets what a solve set, and a body's entry is set only by the solve of
+    // its own island, which is then finished in this step.
+    if (mMove.size() != hooks.bodies().hotArray().size()) mMove.assign(hooks.bodies().hotArray().size(), Move{});
     solveIslands(hooks);
     finishIslands(hooks);
     mergeResults(hooks);

@@ -231,6 +231,28 @@ TEST_CASE("step(budget) overrides the world's budget for one call") {
     CHECK(a.world->stateHash() == b.world->stateHash());
 }
 
+TEST_CASE("a budgeted call after unbudgeted resting steps gives every island its need") {
+    // Resting unbudgeted steps keep last step's islands and jobs; a job kept from them carries no predicted need,
+    // so a budgeted call must plan its jobs afresh: with a budget far above what the scene needs, every island with
+    // contacts is solved exactly, on any thread count.
+    for (int threads : {1, 2}) {
+        CAPTURE(threads);
+        auto loaded = scenes::loadScene2(scenes::manyPyramidsScene(4, 4, false), "pyramids");
+        World2& w = *loaded.world;
+        REQUIRE(w.setTaskSystem(TaskSystem{threads}));
+        for (int t = 0; t < 120; ++t) w.step();
+        const int solved = w.stats().exactIslands;  // the pyramids' islands
+        REQUIRE(solved > 1);
+        for (int round = 0; round < 3; ++round) {
+            w.step(work::fromMilliseconds(1000.0));
+            CHECK(w.stats().approximateIslands == 0);
+            CHECK(w.stats().exactIslands == solved);
+            w.step();
+            CHECK(w.stats().exactIslands == solved);
+        }
+    }
+}
+
 TEST_CASE("a budgeted scene records and verifies, and its recording matches a threaded run") {
     nlohmann::json scene = scenes::pyramidScene(10, 0.5, false);
     scene["step_budget"] = work::fromMilliseconds(0.1);
