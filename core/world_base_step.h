@@ -33,12 +33,6 @@ void WorldBase<Derived, D, Def, Hot, Cold, ContactPoint>::step(std::uint64_t bud
     self().beforeStep();
     typename Derived::Hooks hooks{self()};
     mStep.run(hooks, StepControl{budget, taskFieldsOf(mDef)});
-    // The public contact list, in parallel over the step's contacts (each range writes its own points).
-    const std::vector<StepContact<D>>& contacts = mStep.contacts();
-    mContactPoints.resize(contacts.size());
-    mStep.forEachRange(int(contacts.size()), 256, [&](int begin, int end) {
-        for (int i = begin; i < end; ++i) mContactPoints[std::size_t(i)] = self().contactPoint(contacts[std::size_t(i)]);
-    });
     ++mStepCount;
     // The scan over every body (and the message) only when a body the step moved left the supported ranges.
     mFault = mStep.motionFault() ? self().findFault() : std::string();

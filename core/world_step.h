@@ -133,6 +133,8 @@ struct StepControl {
 ///   parallelNarrowphase()          false when narrowphase() must run on one thread (it records into the world)
 ///   worldInvInertia(state, info)   world-frame inverse inertia of a dynamic body
 ///   integrate(dense, v, w, dt)     moves a body by velocities v, w over dt (centre, rotation, origin)
+///   contactPoints()                the world's public contact list, which the step sizes and fills in contact order
+///   contactPoint(stepContact)      a step contact as an entry of that list
 /// and the shapes (cold record `shapes`, each with friction and restitution) must have computeAabb(shape, xf)
 /// (an Aabb with lower/upper) and findPairs(boxes, inactive, cache) (the broadphase, with a SweepCache) found by
 /// argument lookup.
@@ -153,12 +155,6 @@ public:
     /// Some body the last run() moved left the supported ranges (hooks.motionOk): only then need the world scan its
     /// bodies for the fault message. Bodies a step does not move keep the state the API checked when it was set.
     bool motionFault() const { return mMotionFault; }
-    /// Runs fn(begin, end) over ranges of [0, count) on the threads of the last run() (its task system): for the
-    /// world's own per-step passes after run(), such as its contact list. Each range must write only its own items.
-    template <class Fn>
-    void forEachRange(int count, int minRange, Fn&& fn) {
-        forRanges(count, minRange, [&](int begin, int end, Worker&) { fn(begin, end); });
-    }
     /// Takes over `other`'s thread pool and per-worker buffers (not state: a world restored from a snapshot keeps
     /// its threads).
     void takeScratch(WorldStep& other) {
@@ -248,9 +244,13 @@ private:
     void solveIslands(H& hooks);
     template <class H>
     void finishIslands(H& hooks);
-    /// Integrates one awake island's bodies and updates their sleep timers (the island's bodies only).
+    /// Integrates one awake island's bodies and updates their sleep timers (the island's bodies only), and writes
+    /// its contacts into the public list.
     template <class H>
     void finishIsland(H& hooks, int island);
+    /// The island's contacts, as they are now, into hooks.contactPoints() (their own entries only).
+    template <class H>
+    void publishContacts(H& hooks, int island) const;
     template <class H>
     void mergeResults(H& hooks);
 
@@ -409,6 +409,7 @@ void WorldStep<D>::planIslands(H& hooks) {
                     mNewEntry[std::size_t(ci)] = cache.at(mHit[std::size_t(ci)]);
                     mHasEntry[std::size_t(ci)] = 1;
                 }
+                publishContacts(hooks, isl);  // a sleeping island's contacts, as found
                 return;
             }
             mAwake[std::size_t(isl)] = 1;
@@ -592,6 +593,7 @@ void WorldStep<D>::solveIslands(H& hooks) {
 template <class D>
 template <class H>
 void WorldStep<D>::finishIsland(H& hooks, int isl) {
+    publishContacts(hooks, isl);  // the island's contacts are solved (or left as found) by now
     const auto& def = hooks.def();
     const double dt = 1.0 / def.hz;
     auto& hot = hooks.bodies().hotArray();
@@ -622,6 +624,17 @@ void WorldStep<D>::finishIsland(H& hooks, int isl) {
             hot[std::size_t(d)].velocity = D::zeroVec();
             hot[std::size_t(d)].angularVelocity = D::zeroAng();
         }
+    }
+}
+
+template <class D>
+template <class H>
+void WorldStep<D>::publishContacts(H& hooks, int isl) const {
+    auto& out = hooks.contactPoints();
+    const int e0 = mIslands.edgeStart[std::size_t(isl)], e1 = mIslands.edgeStart[std::size_t(isl) + 1];
+    for (int j = e0; j < e1; ++j) {
+        const std::size_t ci = std::size_t(mIslands.edges[std::size_t(j)]);
+        out[ci] = hooks.contactPoint(mContacts[ci]);
     }
 }
 
@@ -691,6 +704,10 @@ void WorldStep<D>::run(H& hooks, const StepControl& control) {
     mFixedWork = 0;
     findContacts(hooks);
     mStats.contacts = int(mContacts.size());
+    // The public contact list: each island writes its own contacts' entries (a sleeping one in planIslands, an awake
+    // one when it is finished), so the list is written in the parallel passes, while each contact is in the cache of
+    // the thread that solved it.
+    hooks.contactPoints().resize(mContacts.size());
     planIslands(hooks);
     // Every entry is unset here: finishIsland unsets what a solve set, and a body's entry is set only by the solve of
     // its own island, which is then finished in this step.
@@ -698,6 +715,12 @@ void WorldStep<D>::run(H& hooks, const StepControl& control) {
     solveIslands(hooks);
     finishIslands(hooks);
     mergeResults(hooks);
+    // Every contact has a dynamic body (the broadphase pairs no two others), so every contact is an edge of some
+    // island and was written above. Should one not be, the whole list is written again here.
+    if (mIslands.edges.size() != mContacts.size()) {
+        auto& out = hooks.contactPoints();
+        for (std::size_t ci = 0; ci < mContacts.size(); ++ci) out[ci] = hooks.contactPoint(mContacts[ci]);
+    }
 }
 
 }  // namespace unison

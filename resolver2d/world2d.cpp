@@ -77,6 +77,9 @@ double World2::angle(BodyId id) const {
 struct World2::Hooks {
     World2& world;
 
+    std::vector<ContactPoint2>& contactPoints() { return world.mContactPoints; }
+    ContactPoint2 contactPoint(const StepContact<Dim2>& c) const { return world.contactPoint(c); }
+
     BodyStore<BodyState2, BodyInfo2>& bodies() { return world.mBodies; }
     const WorldDef2& def() const { return world.mDef; }
     int frictionDirections() const { return Dim2::frictionDirectionCount(2); }  // +t and -t: the exact 2D pyramid
@@ -121,12 +124,6 @@ struct World2::Hooks {
     int narrowphaseScope() const { return 0; }  // the 2D narrowphase keeps nothing between pairs
     bool parallelNarrowphase() const { return true; }
 };
-
-ContactPoint2 World2::contactPoint(const StepContact<Dim2>& c) const {
-    const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)
-    return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
-            dot(c.tangentImpulse, perp), c.feature};
-}
 
 // The shared step and body operations, instantiated here where Hooks is complete (core/world_base_step.h).
 using WorldBase2 = WorldBase<World2, Dim2, WorldDef2, BodyState2, BodyInfo2, ContactPoint2>;

@@ -131,7 +131,11 @@ private:
     void castRay(Vec2 origin, Vec2 translation, bool closest, Visit&& visit) const;
     void updateBodyCenter(BodyState2& s, const BodyInfo2& info) const;
     void beforeStep() {}
-    ContactPoint2 contactPoint(const StepContact<Dim2>& c) const;
+    ContactPoint2 contactPoint(const StepContact<Dim2>& c) const {
+        const Vec2 perp{-c.normal.y, c.normal.x};  // the 2D tangent impulse is a scalar along perp(normal)
+        return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
+                dot(c.tangentImpulse, perp), c.feature};
+    }
     static double worldInvInertia(const BodyState2&, const BodyInfo2& info) { return info.invInertia; }
     void keepOnRestore(World2&) const {}
     // The one canonical serialiser (world2d_state.cpp): writes the state of a const World2 into a sink, or reads it

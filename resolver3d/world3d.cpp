@@ -84,6 +84,9 @@ Mat3 World3::worldInvInertia(const BodyState3& s, const BodyInfo3& info) {
 struct World3::Hooks {
     World3& world;
 
+    std::vector<ContactPoint3>& contactPoints() { return world.mContactPoints; }
+    ContactPoint3 contactPoint(const StepContact<Dim3>& c) const { return world.contactPoint(c); }
+
     BodyStore<BodyState3, BodyInfo3>& bodies() { return world.mBodies; }
     const WorldDef3& def() const { return world.mDef; }
     int frictionDirections() const { return D3::frictionDirectionCount(world.mDef.frictionDirections); }
@@ -146,11 +149,6 @@ struct World3::Hooks {
     /// captureCandidates() appends every pair's candidates to the world in pair order: one thread then.
     bool parallelNarrowphase() const { return !world.mCapture; }
 };
-
-ContactPoint3 World3::contactPoint(const StepContact<Dim3>& c) const {
-    return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
-            c.tangentImpulse, c.feature};
-}
 
 // The shared step and body operations, instantiated here where Hooks is complete (core/world_base_step.h).
 using WorldBase3 = WorldBase<World3, Dim3, WorldDef3, BodyState3, BodyInfo3, ContactPoint3>;

@@ -151,7 +151,10 @@ private:
     template <class Visit>
     void castRay(const Vec3& origin, const Vec3& translation, bool closest, Visit&& visit) const;
     void beforeStep() { mCandidates.clear(); }
-    ContactPoint3 contactPoint(const StepContact<Dim3>& c) const;
+    ContactPoint3 contactPoint(const StepContact<Dim3>& c) const {
+        return {mBodies.idAt(c.bodyA), mBodies.idAt(c.bodyB), c.point, c.normal, c.separation, c.normalImpulse,
+                c.tangentImpulse, c.feature};
+    }
     /// World-frame I^-1 = R I_b^-1 R^T.
     static Mat3 worldInvInertia(const BodyState3& s, const BodyInfo3& info);
     void keepOnRestore(World3& fresh) const { fresh.mCapture = mCapture; }  // a viewing switch, not state

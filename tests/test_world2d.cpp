@@ -5,6 +5,7 @@
 #include "make_scenes2d.h"
 #include "scene_dir.h"
 #include "scene_json.h"
+#include "step_budget.h"
 #include "world2d.h"
 
 #include <algorithm>
@@ -93,6 +94,65 @@ TEST_CASE("a box landing on a sleeping box wakes it, and both come to rest stack
     CHECK(world.state(below)->position.y == doctest::Approx(0.5).epsilon(0.02));
     CHECK(world.state(above)->position.y == doctest::Approx(1.5).epsilon(0.02));
     CHECK(world.stats().failedIslands == 0);
+}
+
+TEST_CASE("the contact list holds every contact of the step once: sleeping, awake, budgeted, on any thread count") {
+    // A box asleep on the ground and a second one landing far from it: the step writes each island's contacts as
+    // it finishes the island (a sleeping one as found), so every entry must name the step's own bodies, and a
+    // resting awake box's normal impulses must carry its weight for the step (1 kg, 10 m/s^2, 1/60 s).
+    for (const std::uint64_t budget : {std::uint64_t(0), work::fromMilliseconds(0.002)}) {
+        std::vector<std::vector<ContactPoint2>> lists[2];
+        for (int threads : {1, 2}) {
+            CAPTURE(budget);
+            CAPTURE(threads);
+            World2 world;
+            REQUIRE(world.setTaskSystem(TaskSystem{threads}));
+            world.setStepBudget(budget);
+            const BodyId asleep = addGroundAndBox(world, 0.5);
+            for (int i = 0; i < 240; ++i) world.step();
+            REQUIRE_FALSE(world.info(asleep)->awake);
+            BodyDef2 def;
+            def.position = {10.0, 2.0};
+            const BodyId lands = world.createBody(def, {boxShape(0.5, 0.5)});
+            int sleepingListed = 0, restingChecked = 0;
+            for (int i = 0; i < 90; ++i) {
+                world.step();
+                const auto& list = world.contacts();
+                CHECK(int(list.size()) == world.stats().contacts);
+                double carried = 0.0;
+                for (const ContactPoint2& cp : list) {
+                    CHECK(world.valid(cp.a));
+                    CHECK(world.valid(cp.b));
+                    CHECK(cp.a != cp.b);
+                    CHECK(std::fabs(std::hypot(cp.normal.x, cp.normal.y) - 1.0) < 1e-12);
+                    if (cp.a == asleep || cp.b == asleep) {
+                        ++sleepingListed;
+                        CHECK(cp.normalImpulse == 0.0);  // not solved while it sleeps
+                    }
+                    if (cp.a == lands || cp.b == lands) carried += cp.normalImpulse;
+                }
+                if (budget == 0 && i >= 50 && world.info(lands)->awake) {
+                    CHECK(carried == doctest::Approx(1.0 / 6.0).epsilon(1e-6));
+                    ++restingChecked;
+                }
+                lists[threads - 1].push_back(list);
+            }
+            CHECK_FALSE(world.info(asleep)->awake);
+            CHECK(sleepingListed >= 2 * 90);  // both corners of the sleeping box, every step
+            if (budget == 0) CHECK(restingChecked >= 10);
+        }
+        REQUIRE(lists[0].size() == lists[1].size());
+        for (std::size_t t = 0; t < lists[0].size(); ++t) {
+            REQUIRE(lists[0][t].size() == lists[1][t].size());
+            for (std::size_t k = 0; k < lists[0][t].size(); ++k) {
+                const ContactPoint2& p = lists[0][t][k];
+                const ContactPoint2& q = lists[1][t][k];
+                CHECK((p.a == q.a && p.b == q.b && p.point.x == q.point.x && p.point.y == q.point.y &&
+                       p.normalImpulse == q.normalImpulse && p.tangentImpulse == q.tangentImpulse &&
+                       p.featureId == q.featureId));
+            }
+        }
+    }
 }
 
 TEST_CASE("Newton's cradle inside the world keeps the simultaneous closed form") {
