@@ -42,26 +42,33 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
     const bool warm = cache && int(cache->order.size()) == n;
     // Every box's entry in the starting order; an invalid box i is marked by index -1 - i and then set aside.
     out.resize(std::size_t(n));
-    auto fill = [&](int begin, int end) {
+    const int chunks = runner ? std::min(64, n / 512) : 0;
+    std::vector<std::uint8_t> chunkInvalid(std::size_t(std::max(chunks, 1)), 0);  // a chunk met an invalid box
+    auto fill = [&](int begin, int end, int chunk) {
+        bool any = false;
         for (int k = begin; k < end; ++k) {
             const int i = warm ? cache->order[std::size_t(k)] : k;
-            out[std::size_t(k)] = valid(i) ? SweepEntry{lowerX(i), i} : SweepEntry{0.0, -1 - i};
+            const bool ok = valid(i);
+            out[std::size_t(k)] = ok ? SweepEntry{lowerX(i), i} : SweepEntry{0.0, -1 - i};
+            any = any || !ok;
         }
+        chunkInvalid[std::size_t(chunk)] = any ? 1 : 0;
     };
-    const int chunks = runner ? std::min(64, n / 512) : 0;
     if (chunks < 2) {
-        fill(0, n);
+        fill(0, n, 0);
     } else {
-        (*runner)(chunks, [&](int c) { fill(int(std::int64_t(n) * c / chunks), int(std::int64_t(n) * (c + 1) / chunks)); });
+        (*runner)(chunks, [&](int c) { fill(int(std::int64_t(n) * c / chunks), int(std::int64_t(n) * (c + 1) / chunks), c); });
     }
     std::vector<int> invalid;
-    for (const SweepEntry& e : out)
-        if (e.index < 0) invalid.push_back(-1 - e.index);
+    const bool anyInvalid = std::find(chunkInvalid.begin(), chunkInvalid.end(), std::uint8_t(1)) != chunkInvalid.end();
+    if (anyInvalid)
+        for (const SweepEntry& e : out)
+            if (e.index < 0) invalid.push_back(-1 - e.index);
     if (!invalid.empty()) {
         out.erase(std::remove_if(out.begin(), out.end(), [](const SweepEntry& e) { return e.index < 0; }), out.end());
         std::sort(invalid.begin(), invalid.end());
     }
-    bool sorted = false;
+    bool sorted = false, moved = false;
     if (warm) {
         std::size_t budget = 8 * out.size() + 64;
         sorted = true;
@@ -75,12 +82,15 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
                 }
                 out[j] = out[j - 1];
                 --j;
+                moved = true;
             }
             out[j] = e;
         }
     }
     if (!sorted) std::sort(out.begin(), out.end(), sweepLess);
     if (!cache) return;
+    // Started from the cache's order with every box valid and nothing moved: out's indices are that order already.
+    if (warm && sorted && !moved && !anyInvalid) return;
     cache->order.clear();
     cache->order.reserve(std::size_t(n));
     for (const SweepEntry& e : out) cache->order.push_back(e.index);

@@ -521,6 +521,7 @@ void WorldStep<D>::solveIslands(H& hooks) {
             job.work = 0;  // kept jobs (planIslands) come with last step's
             job.state = State::pending;
             solveIsland(hooks, job, worker);
+            worker.solved.work += job.work;  // (the budgeted passes' jobs are summed in mergeResults)
             finishIsland(hooks, job.island);
         });
         return;
@@ -668,7 +669,8 @@ void WorldStep<D>::mergeResults(H& hooks) {
             mMotionFault = mMotionFault || !hooks.motionOk(hot[std::size_t(d)]);
         }
     for (const Worker& w : mWorkers) world_step_detail::accumulate(mStats, w.solved);
-    for (const Job& job : mJobs) mStats.work += job.work;
+    if (!mFinishedInSolve)  // without a budget each job's work was summed by its worker
+        for (const Job& job : mJobs) mStats.work += job.work;
     // The next cache in contact order: contacts come in body-pair order, which is nearly the key order, so the sort
     // in replace() has little to do (in island order, each island's contacts with the ground would be far apart).
     // When every contact wrote its entry (the usual case), the entries are handed over as they are, without a copy;

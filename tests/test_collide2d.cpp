@@ -448,6 +448,19 @@ TEST_CASE("broadphase: a sweep cache kept between calls changes the cost, never 
             if (i % 97 == 5 && i > 0) b.lower.x = boxes[std::size_t(i - 1)].lower.x;  // an exact tie
         }
     }
+    // Every box valid again, then left in place: the later calls find the cache's order sorted, move nothing and
+    // keep that order as it is, and it must be the boxes' sorted order.
+    for (Aabb2& b : boxes)
+        if (b.lower.x > b.upper.x) b.lower.x = b.upper.x - 0.7;
+    for (int call = 0; call < 3; ++call) {
+        CHECK(findPairs(boxes, isStatic, &cache) == findPairs(boxes, isStatic));
+        REQUIRE(cache.order.size() == std::size_t(n));
+        for (int k = 1; k < n; ++k) {
+            const int i = cache.order[std::size_t(k - 1)], j = cache.order[std::size_t(k)];
+            const double xi = boxes[std::size_t(i)].lower.x, xj = boxes[std::size_t(j)].lower.x;
+            CHECK((xi < xj || (xi == xj && i < j)));
+        }
+    }
     std::vector<Aabb2> fewer(boxes.begin(), boxes.begin() + n / 2);  // another count: the cache starts over
     CHECK(findPairs(fewer, {}, &cache) == findPairs(fewer, {}));
     CHECK(cache.order.size() == std::size_t(n / 2));
