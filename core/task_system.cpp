@@ -75,8 +75,10 @@ void* ThreadPool::enqueue(TaskCallback* callback, int itemCount, int minRange, v
     task->callback = callback;
     task->context = taskContext;
     task->itemCount = itemCount;
-    // About 8 ranges per worker, so that uneven items (one big island among small ones) still balance.
-    const int want = (itemCount + 8 * pool.mWorkerCount - 1) / (8 * pool.mWorkerCount);
+    // About 16 ranges per worker, so that uneven items (one big island among small ones) still balance, and the
+    // last range of a section, which one thread runs while the other may wait, is short (8 per worker left
+    // 2000 one-contact islands on 2 threads about 10 us per step slower).
+    const int want = (itemCount + 16 * pool.mWorkerCount - 1) / (16 * pool.mWorkerCount);
     task->rangeSize = want > minRange ? want : minRange;
     task->rangeCount = (itemCount + task->rangeSize - 1) / task->rangeSize;
     task->blockCount = pool.mWorkerCount;
