@@ -219,6 +219,7 @@ private:
         int kinematicBodies = 0;      // kinematic bodies this worker met in findContacts' body pass
         bool graphChanged = false;    // findContacts: a body's flag or a contact's edge this worker wrote differs
         bool sleepers = false;        // findContacts: this worker met a dynamic body that is asleep
+        bool shapesChanged = false;   // findContacts: a body's shape count differs from mShapeCount's
         StepStats solved;             // counts of the island solves this worker ran (merged by accumulate())
     };
     /// One awake island with contacts: what the allocation knows of it, and what its solve produced.
@@ -293,6 +294,8 @@ private:
     std::vector<ContactKey> mNewEntry;    // per contact: its entry for the next step's cache (if mHasEntry)
     std::vector<std::uint8_t> mHasEntry;  // per contact: 1 when its island wrote mNewEntry
     std::vector<StepContact<D>> mSlots;   // the narrowphase's points, kSlots per broadphase pair
+    std::vector<int> mShapeCount;         // per body: its shape count when mFirst was made (findContacts)
+    std::vector<int> mFirst;              // per body: its first broadphase proxy (prefix sums of mShapeCount)
     Islands mIslands;
     std::vector<int> mIslandScratch;      // buildIslands' union-find, kept for its capacity
     bool mIslandsBuilt = false;           // mIslands is buildIslands(mJoins, mEdges) (kept while neither changes)

@@ -21,11 +21,22 @@ void WorldStep<D>::findContacts(H& hooks) {
         int body, shape;
         double far;  // how far the shape can move this step (m): dt (|v| + |w| extent), or more (below)
     };
-    // Proxies, boxes and flags in (body, shape) order, each body's at its own offset, so bodies fill them in parallel.
+    // Proxies, boxes and flags in (body, shape) order, each body's at its own offset (mFirst), so bodies fill them
+    // in parallel. A body's shapes are fixed when it is created, so the offsets change only when bodies come and go:
+    // they are kept with the shape counts they were made from, and the body pass checks each body's count against
+    // its kept one (reading cold records here, on one thread, would pull every body's record away from the thread
+    // that integrates it). A count that differs, or another number of bodies, makes new offsets.
     const int nb = int(hot.size());
-    std::vector<int> first(std::size_t(nb) + 1, 0);
-    for (int d = 0; d < nb; ++d) first[std::size_t(d) + 1] = first[std::size_t(d)] + int(cold[std::size_t(d)].shapes.size());
-    const std::size_t nproxies = std::size_t(first[std::size_t(nb)]);
+    auto layOut = [&] {
+        mShapeCount.resize(std::size_t(nb));
+        mFirst.assign(std::size_t(nb) + 1, 0);
+        for (int d = 0; d < nb; ++d) {
+            mShapeCount[std::size_t(d)] = int(cold[std::size_t(d)].shapes.size());
+            mFirst[std::size_t(d) + 1] = mFirst[std::size_t(d)] + mShapeCount[std::size_t(d)];
+        }
+    };
+    if (mFirst.size() != std::size_t(nb) + 1) layOut();
+    std::size_t nproxies = std::size_t(mFirst[std::size_t(nb)]);
     std::vector<Proxy> proxies(nproxies);
     std::vector<decltype(computeAabb(cold[0].shapes[0], hooks.transform(hot[0])))> boxes(nproxies);
     std::vector<std::uint8_t> inactive(nproxies);
@@ -48,18 +59,12 @@ void WorldStep<D>::findContacts(H& hooks) {
         w.kinematicBodies = 0;
         w.graphChanged = false;
         w.sleepers = false;
+        w.shapesChanged = false;
     }
-    forEach(nb, 64, [&](int d, Worker& worker) {
-        auto& st = hot[std::size_t(d)];
+    // A body's shapes' boxes (after its velocity and transform are this step's) at its offset in mFirst.
+    auto placeShapes = [&](int d) {
+        const auto& st = hot[std::size_t(d)];
         const auto& info = cold[std::size_t(d)];
-        const bool dynamic = world_step_detail::isDynamic(info);
-        if (world_step_detail::isKinematic(info)) ++worker.kinematicBodies;
-        if (dynamic && info.awake) st.velocity = D::add(st.velocity, D::scale(dt, def.gravity));  // external forces
-        worker.sleepers = worker.sleepers || (dynamic && !info.awake);
-        xfs[std::size_t(d)] = hooks.transform(st);
-        const std::uint8_t joins = dynamic ? 1 : 0;
-        worker.graphChanged = worker.graphChanged || mJoins[std::size_t(d)] != joins;
-        mJoins[std::size_t(d)] = joins;
         for (int s = 0; s < int(info.shapes.size()); ++s) {
             auto box = computeAabb(info.shapes[std::size_t(s)], xfs[std::size_t(d)]);
             // Speculative reach: a contact that can close within this step must already be in this step's LCP, or
@@ -81,12 +86,36 @@ void WorldStep<D>::findContacts(H& hooks) {
             const double grow = margin + far;
             box.lower = D::sub(box.lower, D::uniform(grow));
             box.upper = D::add(box.upper, D::uniform(grow));
-            const std::size_t k = std::size_t(first[std::size_t(d)] + s);
+            const std::size_t k = std::size_t(mFirst[std::size_t(d)] + s);
             proxies[k] = {d, s, far};
             boxes[k] = box;
             inactive[k] = world_step_detail::isDynamic(info) ? 0 : 1;
         }
+    };
+    forEach(nb, 64, [&](int d, Worker& worker) {
+        auto& st = hot[std::size_t(d)];
+        const auto& info = cold[std::size_t(d)];
+        const bool dynamic = world_step_detail::isDynamic(info);
+        if (world_step_detail::isKinematic(info)) ++worker.kinematicBodies;
+        if (dynamic && info.awake) st.velocity = D::add(st.velocity, D::scale(dt, def.gravity));  // external forces
+        worker.sleepers = worker.sleepers || (dynamic && !info.awake);
+        xfs[std::size_t(d)] = hooks.transform(st);
+        const std::uint8_t joins = dynamic ? 1 : 0;
+        worker.graphChanged = worker.graphChanged || mJoins[std::size_t(d)] != joins;
+        mJoins[std::size_t(d)] = joins;
+        if (int(info.shapes.size()) != mShapeCount[std::size_t(d)]) worker.shapesChanged = true;  // (placed below)
+        else placeShapes(d);
     });
+    bool shapesChanged = false;
+    for (const Worker& w : mWorkers) shapesChanged = shapesChanged || w.shapesChanged;
+    if (shapesChanged) {  // bodies came and went since the offsets were made: new offsets, and every box again
+        layOut();
+        nproxies = std::size_t(mFirst[std::size_t(nb)]);
+        proxies.resize(nproxies);
+        boxes.resize(nproxies);
+        inactive.resize(nproxies);
+        forEach(nb, 64, [&](int d, Worker&) { placeShapes(d); });
+    }
     mAllAwake = true;
     for (const Worker& w : mWorkers) mAllAwake = mAllAwake && !w.sleepers;
     // The sweep over the sorted boxes in parallel chunks (the sorted pairs do not depend on them).
