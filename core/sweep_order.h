@@ -42,7 +42,7 @@ void sweepSort(int n, Valid valid, LowerX lowerX, std::vector<SweepEntry>& out, 
     const bool warm = cache && int(cache->order.size()) == n;
     // Every box's entry in the starting order; an invalid box i is marked by index -1 - i and then set aside.
     out.resize(std::size_t(n));
-    const int chunks = runner ? std::min(64, n / 512) : 0;
+    const int chunks = runner ? std::min(64, n / 256) : 0;
     std::vector<std::uint8_t> chunkInvalid(std::size_t(std::max(chunks, 1)), 0);  // a chunk met an invalid box
     auto fill = [&](int begin, int end, int chunk) {
         bool any = false;
@@ -140,7 +140,7 @@ std::vector<std::pair<int, int>> sweepPairs(const std::vector<SweepEntry>& order
         }
     };
     std::vector<std::pair<int, int>> pairs;
-    const int chunks = runner ? std::min(64, m / 256) : 0;
+    const int chunks = runner ? std::min(64, m / 128) : 0;
     if (chunks < 2) {
         sweep(0, m, pairs);
     } else {
