@@ -384,7 +384,7 @@ TEST_CASE("broadphase: 2000 random boxes, sort-and-sweep equals brute force") {
         for (int c = chunks - 1; c >= 0; --c) fn(c);
     };
     CHECK(findPairs(boxes, isStatic, nullptr, &backwards) == brute);
-    CHECK(calls == 7);  // 2000 boxes in chunks of about 256 sorted boxes
+    CHECK(calls == 15);  // 2000 boxes in chunks of about 128 sorted boxes
 }
 
 TEST_CASE("broadphase: the pairs' counting sort orders as std::sort does, with a ground met by every box, sorted or not") {
