@@ -207,8 +207,10 @@ private:
             keys.clear();
         }
     };
-    /// Scratch of one worker thread; nothing in it outlives an island (its buffers keep their capacity).
-    struct Worker {
+    /// Scratch of one worker thread; nothing in it outlives an island (its buffers keep their capacity). Each on
+    /// cache lines of its own: a worker writes its counts and flags for every item, and a neighbour's solver
+    /// fields sharing a line with them would be invalidated in the other core's cache each time.
+    struct alignas(64) Worker {
         LemkeSolver solver;
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
         IslandSetup setup;            // the island being solved
