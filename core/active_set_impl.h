@@ -19,6 +19,12 @@
 //   - phase 0 (8 iterations) keeps the face of the warm start: contacts pushing stay active, contacts inside their
 //     cone stick, the rest slip, and only a separated contact that approaches faster than the tolerance joins. A
 //     resting island's face rarely changes, so this is usually 1-4 factorisations;
+//   - when phase 0 does not certify and its best residual is above 10 tolerances (ActiveSetOptions::interiorPoint:
+//     a landing, not a settled island at the tolerance's floor), the path restarts once from the interior-point
+//     answer of the convex relaxation (Mehrotra's predictor-corrector on the cones |p_t| <= mu p_n, its Newton
+//     systems M + J^T H^-1 J in the bodies' degrees of freedom), on that answer's face first; that answer is then
+//     the start of phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
+//     as it stands;
 //   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
 //     touching and sticking), with u' the velocities of the proximal sub-problem u + eps G_ii (p - centre): eps
@@ -359,6 +365,324 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             x[std::size_t(2 * c)] = w[0];
             x[std::size_t(2 * c + 1)] = D::dot(D::fromComponents(w + 1), sys.dirs[std::size_t(2 * c)]);
         }
+        std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
+        // The interior-point restart (ActiveSetOptions::interiorPoint): the convex relaxation of the island's problem,
+        // min 1/2 p^T A p + b^T p over the cones |p_t| <= mu p_n (A = J M^-1 J^T), by Mehrotra's predictor-corrector
+        // method. Per contact the constraints are C p >= 0 with C = [mu, -1; mu, 1] (one row, p_n >= 0, where mu or
+        // the tangent row's diagonal is 0). Its Newton system (A + C^T S^-1 Y C) dp = g is solved in body space: with
+        // H^-1 the inverse of each contact's 2 x 2 block C^T S^-1 Y C, (M + J^T H^-1 J) dv = J^T H^-1 g and
+        // dp = H^-1 (g - J dv), a symmetric positive definite system of the bodies' degrees of freedom whose pattern
+        // (the bodies' contact graph) does not change between iterations. The relaxation differs from the
+        // Stewart–Trinkle problem only where contacts slide (it lets them separate at mu |u_t|), so its answer, with
+        // the constraints whose slack is small against their multiplier taken as active, is a start the active-set
+        // iteration below finishes from.
+        auto interiorPoint = [&](std::vector<double>& xOut) -> bool {
+            std::vector<std::uint8_t> two(static_cast<std::size_t>(nc));
+            int m = 0;
+            for (int c = 0; c < nc; ++c) {
+                two[std::size_t(c)] = sys.mu[std::size_t(c)] > 0.0 && diag[std::size_t(2 * c + 1)] > 0.0 ? 1 : 0;
+                m += two[std::size_t(c)] ? 2 : 1;
+            }
+            const double v0 = std::max(bMax, 1e-6);
+            std::vector<double> p(std::size_t(2 * nc), 0.0), s(std::size_t(2 * nc), 0.0), y(std::size_t(2 * nc), 0.0);
+            std::vector<double> uu(std::size_t(2 * nc)), rd(std::size_t(2 * nc)), rp(std::size_t(2 * nc), 0.0);
+            std::vector<double> e(std::size_t(2 * nc), 0.0), hinv(std::size_t(3 * nc), 0.0);
+            std::vector<double> dp(std::size_t(2 * nc)), ds(std::size_t(2 * nc), 0.0), dy(std::size_t(2 * nc), 0.0);
+            std::vector<double> dsAff(std::size_t(2 * nc), 0.0), dyAff(std::size_t(2 * nc), 0.0);
+            std::vector<double> rc(std::size_t(2 * nc), 0.0), g(std::size_t(2 * nc)), h(std::size_t(2 * nc));
+            for (int c = 0; c < nc; ++c) {
+                const int cnt = two[std::size_t(c)] ? 2 : 1;
+                for (int i = 0; i < cnt; ++i) {
+                    s[std::size_t(2 * c + i)] = v0 / diag[std::size_t(2 * c)];
+                    y[std::size_t(2 * c + i)] = v0;
+                }
+            }
+            auto cp = [&](const std::vector<double>& q, int c, int i) {  // row i of C q for contact c
+                const double pn = q[std::size_t(2 * c)], pt = q[std::size_t(2 * c + 1)];
+                if (!two[std::size_t(c)]) return pn;
+                return sys.mu[std::size_t(c)] * pn + (i == 0 ? -pt : pt);
+            };
+            // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
+            // of freedom), only the values change.
+            std::vector<Eigen::Triplet<double>> kt;
+            std::vector<double> kv;
+            std::vector<int> kpos;
+            Eigen::SparseMatrix<double> Kb;
+            detail::ColumnAssembly kbAssembly;
+            SymmetricPatternLu kbFactor;
+            bool analysed = false;
+            std::vector<double> moment(std::size_t(ndof > 0 ? ndof : 1));
+            auto addRows = [&](int c, double hn, double ht) {  // moment += J_n^T hn + J_t^T ht
+                for (int r = 0; r < 2; ++r) {
+                    const double v = r == 0 ? hn : ht;
+                    if (v == 0.0) continue;
+                    const detail::JacobianRow<D>& row = rowAt(c, r);
+                    for (int sd = 0; sd < 2; ++sd) {
+                        const int d = dof[std::size_t(row.body[sd])];
+                        if (d < 0) continue;
+                        const double j[3] = {row.lin[sd].x, row.lin[sd].y, row.ang[sd]};
+                        for (int a = 0; a < 3; ++a)
+                            if (!locked[std::size_t(d + a)]) moment[std::size_t(d + a)] += v * j[a];
+                    }
+                }
+            };
+            auto rowDot = [&](int c, int r, const Eigen::VectorXd& v) {  // J_r v
+                const detail::JacobianRow<D>& row = rowAt(c, r);
+                double sum = 0.0;
+                for (int sd = 0; sd < 2; ++sd) {
+                    const int d = dof[std::size_t(row.body[sd])];
+                    if (d < 0) continue;
+                    sum += row.lin[sd].x * v[d] + row.lin[sd].y * v[d + 1] + row.ang[sd] * v[d + 2];
+                }
+                return sum;
+            };
+            auto applyHinv = [&](int c, double gn, double gt, double& hn, double& ht) {
+                const double* H = &hinv[std::size_t(3 * c)];
+                hn = H[0] * gn + H[1] * gt;
+                ht = H[1] * gn + H[2] * gt;
+            };
+            for (int k = 0; k < nb; ++k) {
+                const int d = dof[std::size_t(k)];
+                if (d < 0) continue;
+                const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+                for (int a = 0; a < 3; ++a) locked[std::size_t(d + a)] = inv[a] > 0.0 ? 0 : 1;
+            }
+            // Direction for a complementarity target rc (rd, rp, s, y, hinv and the factors current).
+            auto direction = [&]() -> bool {
+                std::fill(moment.begin(), moment.end(), 0.0);
+                for (int c = 0; c < nc; ++c) {
+                    double wn = 0.0, wt = 0.0;  // C^T (rc + y rp) / s
+                    if (two[std::size_t(c)]) {
+                        const double w0 = (rc[std::size_t(2 * c)] + y[std::size_t(2 * c)] * rp[std::size_t(2 * c)]) /
+                                          s[std::size_t(2 * c)];
+                        const double w1 = (rc[std::size_t(2 * c + 1)] +
+                                           y[std::size_t(2 * c + 1)] * rp[std::size_t(2 * c + 1)]) /
+                                          s[std::size_t(2 * c + 1)];
+                        wn = sys.mu[std::size_t(c)] * (w0 + w1);
+                        wt = w1 - w0;
+                    } else {
+                        wn = (rc[std::size_t(2 * c)] + y[std::size_t(2 * c)] * rp[std::size_t(2 * c)]) /
+                             s[std::size_t(2 * c)];
+                    }
+                    g[std::size_t(2 * c)] = -rd[std::size_t(2 * c)] - wn;
+                    g[std::size_t(2 * c + 1)] = -rd[std::size_t(2 * c + 1)] - wt;
+                    double hn = 0.0, ht = 0.0;
+                    applyHinv(c, g[std::size_t(2 * c)], g[std::size_t(2 * c + 1)], hn, ht);
+                    addRows(c, hn, ht);
+                }
+                Eigen::VectorXd rv(ndof);
+                for (int i = 0; i < ndof; ++i) rv[i] = moment[std::size_t(i)];
+                const Eigen::VectorXd dv = ndof > 0 ? kbFactor.solve(rv) : rv;
+                work += 4 * std::uint64_t(kbFactor.factorNonZeros()) + rowWork;
+                for (int c = 0; c < nc; ++c) {
+                    const double gn = g[std::size_t(2 * c)] - rowDot(c, 0, dv);
+                    const double gt = g[std::size_t(2 * c + 1)] - rowDot(c, 1, dv);
+                    applyHinv(c, gn, gt, dp[std::size_t(2 * c)], dp[std::size_t(2 * c + 1)]);
+                    const int cnt = two[std::size_t(c)] ? 2 : 1;
+                    for (int i = 0; i < cnt; ++i) {
+                        const std::size_t j = std::size_t(2 * c + i);
+                        ds[j] = cp(dp, c, i) + rp[j];
+                        dy[j] = -(rc[j] + y[j] * ds[j]) / s[j];
+                    }
+                }
+                for (double v : dp) if (!std::isfinite(v)) return false;
+                return true;
+            };
+            auto maxStep = [&](const std::vector<double>& v, const std::vector<double>& dv) {
+                double a = 1.0;
+                for (int c = 0; c < nc; ++c) {
+                    const int cnt = two[std::size_t(c)] ? 2 : 1;
+                    for (int i = 0; i < cnt; ++i) {
+                        const std::size_t j = std::size_t(2 * c + i);
+                        if (dv[j] < 0.0) a = std::min(a, -v[j] / dv[j]);
+                    }
+                }
+                return a;
+            };
+            double mu0 = 0.0;
+            constexpr int kInteriorIterations = 40;
+            constexpr double kStableGap = 1e-8;
+            // Bit 0: the first constraint is active (its slack small against its multiplier), bit 1: the second.
+            auto activeOf = [&](int c) -> std::uint8_t {
+                const double gn = diag[std::size_t(2 * c)];
+                const bool a0 = s[std::size_t(2 * c)] * gn <= y[std::size_t(2 * c)];
+                const bool a1 = two[std::size_t(c)] && s[std::size_t(2 * c + 1)] * gn <= y[std::size_t(2 * c + 1)];
+                return std::uint8_t((a0 ? 1 : 0) | (a1 ? 2 : 0));
+            };
+            std::vector<std::uint8_t> cls(static_cast<std::size_t>(nc), 0), prevCls(static_cast<std::size_t>(nc), 255);
+            bool ok = false;
+            for (int it = 0; it < kInteriorIterations; ++it) {
+                if (settings.maxWork > 0 && work >= settings.maxWork) return false;
+                velocities(p, uu);
+                work += rowWork;
+                double gap = 0.0, rdMax = 0.0, rpMax = 0.0;
+                for (int c = 0; c < nc; ++c) {
+                    const double ys0 = y[std::size_t(2 * c)], ys1 = y[std::size_t(2 * c + 1)];
+                    if (two[std::size_t(c)]) {
+                        rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - sys.mu[std::size_t(c)] * (ys0 + ys1);
+                        rd[std::size_t(2 * c + 1)] = uu[std::size_t(2 * c + 1)] + ys0 - ys1;
+                    } else {
+                        rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - ys0;
+                        rd[std::size_t(2 * c + 1)] = 0.0;  // p_t stays 0 (H^-1 has no tangent part)
+                    }
+                    rdMax = std::max({rdMax, std::fabs(rd[std::size_t(2 * c)]), std::fabs(rd[std::size_t(2 * c + 1)])});
+                    const int cnt = two[std::size_t(c)] ? 2 : 1;
+                    for (int i = 0; i < cnt; ++i) {
+                        const std::size_t j = std::size_t(2 * c + i);
+                        rp[j] = cp(p, c, i) - s[j];
+                        rpMax = std::max(rpMax, std::fabs(rp[j]) * diag[std::size_t(2 * c)]);
+                        gap += s[j] * y[j];
+                    }
+                }
+                const double mub = gap / double(m);
+                if (it == 0) mu0 = mub;
+                // Once the gap is small, stop when the active constraints are those of the last iteration: the
+                // active-set iteration finishes from there.
+                if (mub <= kStableGap * mu0) {
+                    for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
+                    if (cls == prevCls) {
+                        ok = true;
+                        break;
+                    }
+                    prevCls = cls;
+                }
+                if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) {
+                    ok = true;
+                    break;
+                }
+                // H^-1 per contact from e = s / y (capped: a contact inside its cone becomes a stiff constraint).
+                for (int c = 0; c < nc; ++c) {
+                    const double gn = diag[std::size_t(2 * c)];
+                    const int cnt = two[std::size_t(c)] ? 2 : 1;
+                    for (int i = 0; i < cnt; ++i) {
+                        const std::size_t j = std::size_t(2 * c + i);
+                        e[j] = std::min(s[j] / y[j], 1e12 / gn);
+                    }
+                    double* H = &hinv[std::size_t(3 * c)];
+                    if (two[std::size_t(c)]) {
+                        const double mu = sys.mu[std::size_t(c)];
+                        const double e0 = e[std::size_t(2 * c)], e1 = e[std::size_t(2 * c + 1)];
+                        H[0] = (e0 + e1) / (4.0 * mu * mu);
+                        H[1] = (e1 - e0) / (4.0 * mu);
+                        H[2] = (e0 + e1) / 4.0;
+                    } else {
+                        H[0] = e[std::size_t(2 * c)];
+                        H[1] = H[2] = 0.0;
+                    }
+                }
+                // Entries in a fixed order: the first iteration assembles the pattern, the later ones write the values
+                // where the first put them (the same sums in the same order as assembleColumns).
+                kt.clear();
+                kv.clear();
+                auto put = [&](int r, int col, double v) {
+                    if (!analysed) kt.emplace_back(r, col, v);
+                    kv.push_back(v);
+                };
+                for (int k = 0; k < nb; ++k) {
+                    const int d = dof[std::size_t(k)];
+                    if (d < 0) continue;
+                    const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                    const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+                    for (int a = 0; a < 3; ++a) put(d + a, d + a, inv[a] > 0.0 ? 1.0 / inv[a] : 1.0);
+                }
+                for (int c = 0; c < nc; ++c) {
+                    const detail::JacobianRow<D>& rn = rowAt(c, 0);
+                    const detail::JacobianRow<D>& rt = rowAt(c, 1);
+                    const double* H = &hinv[std::size_t(3 * c)];
+                    for (int sa = 0; sa < 2; ++sa) {
+                        const int da = dof[std::size_t(rn.body[sa])];
+                        if (da < 0) continue;
+                        const double na[3] = {rn.lin[sa].x, rn.lin[sa].y, rn.ang[sa]};
+                        const double ta[3] = {rt.lin[sa].x, rt.lin[sa].y, rt.ang[sa]};
+                        for (int sb = 0; sb < 2; ++sb) {
+                            const int db = dof[std::size_t(rn.body[sb])];
+                            if (db < 0) continue;
+                            const double nbv[3] = {rn.lin[sb].x, rn.lin[sb].y, rn.ang[sb]};
+                            const double tbv[3] = {rt.lin[sb].x, rt.lin[sb].y, rt.ang[sb]};
+                            for (int a = 0; a < 3; ++a) {
+                                if (locked[std::size_t(da + a)]) continue;
+                                for (int bb = 0; bb < 3; ++bb) {
+                                    if (locked[std::size_t(db + bb)]) continue;
+                                    const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
+                                                     ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
+                                    put(da + a, db + bb, v);
+                                }
+                            }
+                        }
+                    }
+                }
+                if (ndof > 0) {
+                    if (!analysed) {
+                        detail::assembleColumns(ndof, kt, Kb, kbAssembly);
+                        kbFactor.analyzePattern(Kb, settings.patternCache);
+                        analysed = true;
+                        kpos.resize(kt.size());
+                        for (std::size_t t = 0; t < kt.size(); ++t) {
+                            const int col = kt[t].col();
+                            const int* rows = Kb.innerIndexPtr();
+                            const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],
+                                                             rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
+                            kpos[t] = int(at - rows);
+                        }
+                    } else {
+                        double* values = Kb.valuePtr();
+                        std::fill(values, values + Kb.nonZeros(), 0.0);
+                        for (std::size_t t = 0; t < kv.size(); ++t) values[kpos[t]] += kv[t];
+                    }
+                    if (!kbFactor.factorize(Kb, true)) return false;
+                    work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros());
+                }
+                // Predictor (affine scaling).
+                for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];
+                if (!direction()) return false;
+                const double ap = maxStep(s, ds), ad = maxStep(y, dy);
+                const double aAff = std::min(ap, ad);
+                double gapAff = 0.0;
+                for (std::size_t j = 0; j < s.size(); ++j) gapAff += (s[j] + aAff * ds[j]) * (y[j] + aAff * dy[j]);
+                const double ratio = gapAff / double(m) / mub;
+                const double sigma = ratio * ratio * ratio;
+                dsAff = ds;
+                dyAff = dy;
+                // Corrector.
+                for (int c = 0; c < nc; ++c) {
+                    const int cnt = two[std::size_t(c)] ? 2 : 1;
+                    for (int i = 0; i < cnt; ++i) {
+                        const std::size_t j = std::size_t(2 * c + i);
+                        rc[j] = s[j] * y[j] + dsAff[j] * dyAff[j] - sigma * mub;
+                    }
+                }
+                if (!direction()) return false;
+                const double alpha = std::min(1.0, 0.99 * std::min(maxStep(s, ds), maxStep(y, dy)));
+                for (std::size_t j = 0; j < p.size(); ++j) {
+                    p[j] += alpha * dp[j];
+                    s[j] += alpha * ds[j];
+                    y[j] += alpha * dy[j];
+                }
+                ok = true;
+            }
+            if (!ok) return false;
+            // The answer with the constraints whose slack is small against their multiplier taken as active.
+            for (int c = 0; c < nc; ++c) {
+                double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
+                const std::uint8_t act = activeOf(c);
+                const bool a0 = (act & 1) != 0, a1 = (act & 2) != 0;
+                const double mu = sys.mu[std::size_t(c)];
+                if (!two[std::size_t(c)]) {
+                    if (a0) pn = 0.0;
+                    pt = 0.0;
+                } else if (a0 && a1) {
+                    pn = pt = 0.0;
+                } else if (a0) {
+                    pt = mu * std::max(pn, 0.0);
+                } else if (a1) {
+                    pt = -mu * std::max(pn, 0.0);
+                }
+                xOut[std::size_t(2 * c)] = pn;
+                xOut[std::size_t(2 * c + 1)] = pt;
+            }
+            return true;
+        };
         project(x);
         velocities(x, u);
         work += rowWork;
@@ -377,7 +701,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<Eigen::Triplet<double>> slipTriplets;
         detail::ColumnAssembly assembly;
         Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
-        std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
         int iterations = 0;
         bool solved = false;
@@ -386,11 +709,14 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
         // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
         constexpr int kPolish = 8, kHalvings = 3;
+        // The interior-point restart is tried once, after phase 0, when phase 0's best residual is above this many tolerances.
+        constexpr double kInteriorGate = 10.0;
         double epsRel = kEps0;
         std::vector<double> center = x, ue(x.size());
         std::vector<std::uint8_t> lastState(static_cast<std::size_t>(nc), std::uint8_t(255));
         std::vector<double> bestX = x, bestU = u;
-        const std::vector<double> warmX = x, warmU = u;
+        std::vector<double> warmX = x, warmU = u;
+        bool interiorTried = false;
         double bestResidual = lcpResidual(x, u);
         // Phases: 0 refines on the face of the warm start (a resting pile's face rarely changes), 1 is the
         // active-set iteration proper, 2 refines on the face of the best iterate of phase 1. A cold start (no
@@ -408,6 +734,32 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             if (settings.maxWork > 0 && work >= settings.maxWork) break;
             if (iterations >= limit) {
                 if (phase == 2) break;
+                if (phase == 0 && settings.interiorPoint && !interiorTried && bestResidual > kInteriorGate * tolAbs) {
+                    // The warm start's face does not hold and its best iterate is far from an answer (a landing, not
+                    // a settled island at the tolerance's floor): restart from the interior-point answer of the
+                    // convex relaxation, on its face first.
+                    interiorTried = true;
+                    std::vector<double> xi(x.size(), 0.0);
+                    if (interiorPoint(xi)) {
+                        out.interiorPoint = true;
+                        x.swap(xi);
+                        project(x);
+                        velocities(x, u);
+                        work += rowWork;
+                        warmX = x;
+                        warmU = u;
+                        center = x;
+                        currentMerit = merit(x, u);
+                        limit = iterations + kPolish;
+                        const double r0 = lcpResidual(x, u);
+                        if (r0 < bestResidual) {
+                            bestResidual = r0;
+                            bestX = x;
+                            bestU = u;
+                        }
+                        continue;
+                    }
+                }
                 if (phase == 0) {
                     // The active-set iteration from the warm start.
                     phase = 1;
@@ -678,7 +1030,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             out.status = LcpStatus::solved;
         }
         out.activeSet = true;
-        out.warmFace = solved && phase == 0;
+        out.warmFace = solved && phase == 0 && !out.interiorPoint;
         out.message.clear();
         // The Stewart–Trinkle basis the answer stands on (the next step's warm guess): p_n > 0, the pushing tangent
         // direction, and the slack where the contact slips on the cone's rim.

@@ -99,6 +99,7 @@ struct Resolution {
     bool fastPath = false;         ///< true when the single-contact closed form was used
     bool warmStarted = false;      ///< a guess was given and the answer came from it (not from a cold restart)
     bool activeSet = false;        ///< the answer came from the active-set path (resolveActiveSet)
+    bool interiorPoint = false;    ///< resolveActiveSet restarted from the interior-point answer (ActiveSetOptions)
     bool warmFace = false;         ///< active-set answers: certified on the face of the warm start (its phase 0)
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
@@ -167,6 +168,9 @@ struct ActiveSetOptions {
     std::uint64_t maxWork = 0;       ///< stop once this many work units are spent (0: no limit)
     /// Analyses of system patterns kept between calls (nullptr: none); it changes the cost, never the answer.
     SymmetricPatternCache* patternCache = nullptr;
+    /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
+    /// restart once from the interior-point answer of the problem's convex relaxation (docs/solver.md).
+    bool interiorPoint = true;
 };
 
 /// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started

@@ -111,6 +111,12 @@ constexpr std::uint32_t kDeclinedEntry = 1u << 23;
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step
 /// against more than 15 s/step).
 constexpr int kActiveSetMinContacts = 64;
+/// Islands of at least this many contacts go to the active-set path first even when Lemke answered them last step,
+/// and the path restarts them from its interior-point answer when their warm face breaks (2D). Below it Lemke's warm
+/// start is cheaper (the 20-row testbed pyramid, ~800 contacts: 1.02 ms/step on Lemke, 1.24 on the path), and the
+/// restart's answers keep islands on the path that cost less on Lemke (the five-level card house: 1.03 against
+/// 0.47 ms/step); above it a landing pile's warm starts cost Lemke minutes (docs/solver.md).
+constexpr int kPathFirstContacts = 1024;
 
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).

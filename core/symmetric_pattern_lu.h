@@ -153,12 +153,13 @@ public:
         ux_.assign(nnz, 0.0);
     }
 
-    /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite.
-    bool factorize(const Eigen::SparseMatrix<double>& a) {
+    /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite. With `symmetricValues`
+    /// the caller promises a = a^T: only L is computed (U = L^T), half the work.
+    bool factorize(const Eigen::SparseMatrix<double>& a, bool symmetricValues = false) {
         if (!a.isCompressed()) {
             Eigen::SparseMatrix<double> compressed = a;
             compressed.makeCompressed();
-            return factorize(compressed);
+            return factorize(compressed, symmetricValues);
         }
         if (!an_ || !an_->symmetric || int(a.rows()) != an_->n || a.nonZeros() != an_->nonZeros) return false;
         const SymmetricPatternAnalysis& an = *an_;
@@ -185,11 +186,29 @@ public:
                 }
                 while (len > 0) pattern_[std::size_t(--top)] = pattern_[std::size_t(--len)];
             }
+            double dk = y_[std::size_t(k)];
+            y_[std::size_t(k)] = 0.0;
+            if (symmetricValues) {
+                for (; top < n; ++top) {
+                    const int i = pattern_[std::size_t(top)];
+                    const double yi = y_[std::size_t(i)];
+                    y_[std::size_t(i)] = 0.0;
+                    const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
+                    for (int p = begin; p < end; ++p) y_[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * yi;
+                    const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
+                    dk -= lki * yi;
+                    rowIdx_[std::size_t(end)] = k;
+                    lx_[std::size_t(end)] = lki;
+                    ux_[std::size_t(end)] = lki;
+                    ++filled_[std::size_t(i)];
+                }
+                if (!(dk != 0.0) || !std::isfinite(dk)) return false;
+                d_[std::size_t(k)] = dk;
+                continue;
+            }
             for (int e = an.lowerStart[std::size_t(k)]; e < an.lowerStart[std::size_t(k) + 1]; ++e) {
                 z_[std::size_t(an.lowerCol[std::size_t(e)])] += value[an.lowerAt[std::size_t(e)]];
             }
-            double dk = y_[std::size_t(k)];
-            y_[std::size_t(k)] = 0.0;
             for (; top < n; ++top) {
                 const int i = pattern_[std::size_t(top)];
                 const double yi = y_[std::size_t(i)], zi = z_[std::size_t(i)];

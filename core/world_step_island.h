@@ -210,7 +210,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         // the bodies have degrees of freedom), so Lemke's check of them as a basis is refused; it is not tried first
         // (measured on the 40-row large pyramid: refused on every step, 200 ms each).
         const bool activeSetFirst = !options.lcp.warmBasis || 2 * setup.activeSetContacts >= nc || handedOver;
-        if (D::kDim == 2 && nc >= kActiveSetMinContacts && activeSetFirst) {
+        // A big island goes to the path even when Lemke answered it last step: while a pile lands, Lemke's warm
+        // starts take thousands of pivots of O(n) each (minutes on the 40-row testbed pyramid), where the path with
+        // its interior-point restart takes a few factorisations (kPathFirstContacts, step_support.h).
+        const bool bigIsland = nc >= kPathFirstContacts && !setup.declined;
+        if (D::kDim == 2 && nc >= kActiveSetMinContacts && (activeSetFirst || bigIsland)) {
             std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
             warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
             for (const PgsWarm<D>& w : setup.impulses) {
@@ -219,6 +223,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
+            fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
             ResolverOptions pathOptions = options;
             if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
