@@ -631,7 +631,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         for (std::size_t t = 0; t < kv.size(); ++t) values[kpos[t]] += kv[t];
                     }
                     if (!kbFactor.factorize(Kb, true)) return false;
-                    work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros());
+                    work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * std::uint64_t(kv.size());
                 }
                 // Predictor (affine scaling).
                 for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];

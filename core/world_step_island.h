@@ -224,6 +224,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
+            // With a budget the path stops at what is left of the island's grant, as Lemke does.
+            if (budgeted) fastOptions.maxWork = std::max<std::uint64_t>(1, job.grant > spent ? job.grant - spent : 1);
             ResolverOptions pathOptions = options;
             if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
@@ -234,6 +236,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 ++stats.activeSetIslands;
             }
         }
+        if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             charge(res);
