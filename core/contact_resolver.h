@@ -169,7 +169,8 @@ struct ActiveSetOptions {
     /// Analyses of system patterns kept between calls (nullptr: none); it changes the cost, never the answer.
     SymmetricPatternCache* patternCache = nullptr;
     /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
-    /// restart once from the interior-point answer of the problem's convex relaxation (docs/solver.md).
+    /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
+    /// convex relaxation (docs/solver.md).
     bool interiorPoint = true;
 };
 
