@@ -97,6 +97,7 @@ struct StepStats {
     int unsolvedIslands = 0;          ///< islands that got no impulse at all (unlimited budget, both LCPs failed)
     int exactIslands = 0;             ///< islands with contacts whose LCP was solved
     int activeSetIslands = 0;         ///< friction LCPs answered by the active-set path (resolveActiveSet)
+    int interiorPointRestarts = 0;    ///< active-set solves that restarted from the interior-point answer
     int approximateIslands = 0;       ///< islands with contacts given the bounded approximation (core/pgs.h)
     double maxApproximateResidual = 0.0;  ///< largest PgsResult::residual of an approximate island
     double maxScaledResidual = 0.0;   ///< the same, scaled: residual / max(|A|, |b|)
@@ -363,6 +364,7 @@ inline void accumulate(StepStats& into, const StepStats& from) {
     into.exactIslands += from.exactIslands;
     into.approximateIslands += from.approximateIslands;
     into.activeSetIslands += from.activeSetIslands;
+    into.interiorPointRestarts += from.interiorPointRestarts;
     into.maxApproximateResidual = std::max(into.maxApproximateResidual, from.maxApproximateResidual);
     into.maxScaledResidual = std::max(into.maxScaledResidual, from.maxScaledResidual);
 }

@@ -230,6 +230,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
+            if (fast.interiorPoint) ++stats.interiorPointRestarts;
             if (usable(fast)) {
                 res = std::move(fast);
                 done = true;

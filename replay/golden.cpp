@@ -31,6 +31,9 @@ std::vector<GoldenScene> goldenScenes() {
         // Box2D v3's large pyramid at base 24 (1704 contacts in one island, every box touching from the start): the
         // active-set path from its cold first step on (its symmetric-pattern LU, GMRES, the pivoting LU behind them).
         {"large_pyramid24", scenes::largePyramidScene(24, false), 30},
+        // The 24-row testbed pyramid through its landing: from step 42 one island of 1024+ contacts, which goes to
+        // the active-set path and its interior-point restart (Mehrotra's iteration, the L D L^T of M + J^T H^-1 J).
+        {"pyramid24_landing", scenes::pyramidScene(24, 0.5, false), 100},
         // The 3D world: boxes tilted so they land on edges and topple into one heap, spheres bouncing
         // with e = 0..1, and two sphere-tree bunnies sliding down the paper's ramps (the mesh path).
         {"box_heap3d", scenes::boxPile3Scene(12, true, false), 180},

@@ -16,7 +16,7 @@ namespace unison::cli {
 /// Step statistics summed (counts) or maximised (residuals, work) over a run.
 struct RunStats {
     int totalPivots = 0, maxIslandPivots = 0, discardedGuesses = 0, basisChange = 0, failed = 0, unsolved = 0;
-    long approximateIslands = 0, exactIslands = 0, activeSetIslands = 0;
+    long approximateIslands = 0, exactIslands = 0, activeSetIslands = 0, interiorPointRestarts = 0;
     double maxResidual = 0.0, maxPenetration = 0.0, maxApproximateResidual = 0.0;
     std::uint64_t maxStepWork = 0;
     double worstStepMs = 0.0, totalMs = 0.0;
@@ -41,6 +41,7 @@ struct RunStats {
         approximateIslands += st.approximateIslands;
         exactIslands += st.exactIslands;
         activeSetIslands += st.activeSetIslands;
+        interiorPointRestarts += st.interiorPointRestarts;
         maxResidual = std::max(maxResidual, st.maxResidual);
         maxPenetration = std::max(maxPenetration, st.maxPenetration);
         maxApproximateResidual = std::max(maxApproximateResidual, st.maxApproximateResidual);
@@ -55,7 +56,7 @@ struct RunStats {
                 {"contacts", last.contacts}, {"islands", last.islands}, {"worst_step_ms", worstStepMs},
                 {"mean_step_ms", steps > 0 ? totalMs / steps : 0.0}, {"max_step_work", maxStepWork},
                 {"approximate_islands", approximateIslands}, {"exact_islands", exactIslands},
-                {"active_set_islands", activeSetIslands},
+                {"active_set_islands", activeSetIslands}, {"interior_point_restarts", interiorPointRestarts},
                 {"max_approximate_residual", maxApproximateResidual}};
     }
 };

@@ -249,12 +249,13 @@ TEST_CASE("a landing 30-row testbed pyramid: its big islands stay on the active-
     auto scene = scenes::loadScene2(scenes::pyramidScene(30, 0.5, false), "pyramid30");
     World2& world = *scene.world;
     const BodyId top = scene.bodies.back();
-    int bigSteps = 0, bigPivots = 0, failed = 0;
+    int bigSteps = 0, bigPivots = 0, failed = 0, restarts = 0;
     Vec2 start{};
     for (int step = 1; step <= 300; ++step) {
         world.step();
         const StepStats& s = world.stats();
         failed += s.failedIslands + s.unsolvedIslands;
+        restarts += s.interiorPointRestarts;
         if (s.islands == 1 && s.contacts >= kPathFirstContacts) {
             ++bigSteps;
             bigPivots += s.pivots;
@@ -263,8 +264,10 @@ TEST_CASE("a landing 30-row testbed pyramid: its big islands stay on the active-
         if (step == 240) start = world.state(top)->center;
     }
     const Vec2 now = world.state(top)->center;
-    MESSAGE(bigSteps << " steps with one island of " << kPathFirstContacts << "+ contacts, " << bigPivots << " pivots");
+    MESSAGE(bigSteps << " steps with one island of " << kPathFirstContacts << "+ contacts, " << bigPivots << " pivots, "
+                     << restarts << " interior-point restarts");
     CHECK(bigSteps >= 100);
+    CHECK(restarts > 0);
     CHECK(bigPivots == 0);
     CHECK(failed == 0);
     CHECK(std::hypot(now.x - start.x, now.y - start.y) < 1e-3);  // stands
