@@ -1,0 +1,171 @@
+// core/body_space_solve.h — the sparse linear algebra the active-set path (core/active_set_impl.h) and its
+// interior-point restart (core/interior_point_impl.h) share: right-preconditioned GMRES and the assembly of a
+// column-major matrix from triplets, both in index order so that their results are the same bits everywhere.
+#pragma once
+
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace unison {
+
+namespace detail {
+
+// Storage of gmresRight, kept across the steps of one active-set solve.
+struct GmresWorkspace {
+    std::vector<Eigen::VectorXd> basis, preconditioned;  // Arnoldi vectors V_j and P^-1 V_j
+    std::vector<double> h, cs, sn, g, y;                // Hessenberg columns (rotated), Givens rotations, residual
+};
+
+inline double plainDot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    double s = 0.0;
+    for (Eigen::Index i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+}
+
+// Right-preconditioned restarted GMRES (Saad & Schultz): x with A x = b, starting from P^-1 b, Arnoldi with
+// modified Gram-Schmidt and Givens rotations, at most kGmresIterations preconditioned products in all, until the true
+// residual is a backward error of kGmresTolerance: ||b - A x|| <= tol (||A||_inf ||x0|| + ||b||), x0 = P^-1 b (the
+// proximal term leaves A ill-conditioned along the redundant rows, so a residual relative to ||b|| alone can be
+// out of reach of any solve in doubles). Every reduction is a plain loop in index order (square roots only), so the
+// answer is the same bits everywhere. Adds to `work` the products it made (`applyWork` each).
+constexpr int kGmresIterations = 60;
+constexpr double kGmresTolerance = 1e-12;
+template <class Preconditioner>
+bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, const Eigen::VectorXd& b,
+                Eigen::VectorXd& x, GmresWorkspace& ws, std::uint64_t applyWork, std::uint64_t& work) {
+    const Eigen::Index n = b.size();
+    const std::uint64_t vectorWork = std::uint64_t(n);
+    x = P.solve(b);
+    work += applyWork;
+    std::vector<double> rowSum(std::size_t(n), 0.0);
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+            rowSum[std::size_t(it.row())] += std::fabs(it.value());
+        }
+    }
+    double normA = 0.0;
+    for (double v : rowSum) normA = std::max(normA, v);
+    const double tol = kGmresTolerance * (normA * std::sqrt(plainDot(x, x)) + std::sqrt(plainDot(b, b)));
+    int used = 0;
+    const int m = kGmresIterations;
+    ws.basis.resize(std::size_t(m + 1));
+    ws.preconditioned.resize(std::size_t(m));
+    ws.h.assign(std::size_t((m + 1) * m), 0.0);
+    ws.cs.assign(std::size_t(m), 0.0);
+    ws.sn.assign(std::size_t(m), 0.0);
+    ws.g.assign(std::size_t(m + 1), 0.0);
+    ws.y.assign(std::size_t(m), 0.0);
+    auto H = [&](int i, int j) -> double& { return ws.h[std::size_t(j * (m + 1) + i)]; };
+    for (;;) {
+        Eigen::VectorXd r = b - A * x;
+        work += applyWork;
+        const double beta = std::sqrt(plainDot(r, r));
+        if (!(beta > tol)) return beta <= tol;  // also false for a NaN residual
+        if (used >= m) return false;
+        ws.basis[0] = r / beta;
+        std::fill(ws.g.begin(), ws.g.end(), 0.0);
+        ws.g[0] = beta;
+        int k = 0;
+        for (int j = 0; used < m; ++j) {
+            ++used;
+            k = j + 1;
+            ws.preconditioned[std::size_t(j)] = P.solve(ws.basis[std::size_t(j)]);
+            Eigen::VectorXd w = A * ws.preconditioned[std::size_t(j)];
+            work += applyWork + std::uint64_t(2 * (j + 2)) * vectorWork;
+            for (int i = 0; i <= j; ++i) {
+                H(i, j) = plainDot(w, ws.basis[std::size_t(i)]);
+                w -= H(i, j) * ws.basis[std::size_t(i)];
+            }
+            const double wn = std::sqrt(plainDot(w, w));
+            for (int i = 0; i < j; ++i) {
+                const double a = H(i, j), c = H(i + 1, j);
+                H(i, j) = ws.cs[std::size_t(i)] * a + ws.sn[std::size_t(i)] * c;
+                H(i + 1, j) = -ws.sn[std::size_t(i)] * a + ws.cs[std::size_t(i)] * c;
+            }
+            const double a = H(j, j);
+            const double rho = std::sqrt(a * a + wn * wn);
+            if (!(rho > 0.0)) {  // a breakdown with H(j, j) = 0: A is singular on the Krylov space
+                k = j;
+                break;
+            }
+            ws.cs[std::size_t(j)] = a / rho;
+            ws.sn[std::size_t(j)] = wn / rho;
+            H(j, j) = rho;
+            ws.g[std::size_t(j + 1)] = -ws.sn[std::size_t(j)] * ws.g[std::size_t(j)];
+            ws.g[std::size_t(j)] = ws.cs[std::size_t(j)] * ws.g[std::size_t(j)];
+            if (std::fabs(ws.g[std::size_t(j + 1)]) <= tol || !(wn > 0.0)) break;
+            ws.basis[std::size_t(j + 1)] = w / wn;
+        }
+        for (int i = k - 1; i >= 0; --i) {
+            double v = ws.g[std::size_t(i)];
+            for (int l = i + 1; l < k; ++l) v -= H(i, l) * ws.y[std::size_t(l)];
+            ws.y[std::size_t(i)] = v / H(i, i);
+        }
+        for (int i = 0; i < k; ++i) x += ws.y[std::size_t(i)] * ws.preconditioned[std::size_t(i)];
+        work += std::uint64_t(k) * vectorWork;
+    }
+}
+
+// Storage of assembleColumns, kept across the steps of one active-set solve.
+struct ColumnAssembly {
+    std::vector<int> start, fill, rows;
+    std::vector<double> values;
+};
+
+// The column-major n x n matrix of `entries` (row, column, value): duplicates summed in the order given, rows ascending
+// within each column. The same matrix, to the bit, as Eigen's setFromTriplets, which sums in the same order, without
+// its row-major intermediate.
+inline void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries,
+                            Eigen::SparseMatrix<double>& out, ColumnAssembly& ws) {
+    ws.start.assign(std::size_t(n) + 1, 0);
+    for (const Eigen::Triplet<double>& e : entries) ++ws.start[std::size_t(e.col()) + 1];
+    for (int j = 0; j < n; ++j) ws.start[std::size_t(j) + 1] += ws.start[std::size_t(j)];
+    ws.fill.assign(ws.start.begin(), ws.start.end() - 1);
+    ws.rows.resize(entries.size());
+    ws.values.resize(entries.size());
+    for (const Eigen::Triplet<double>& e : entries) {
+        const int p = ws.fill[std::size_t(e.col())]++;
+        ws.rows[std::size_t(p)] = e.row();
+        ws.values[std::size_t(p)] = e.value();
+    }
+    int w = 0;
+    for (int j = 0, b = ws.start[0]; j < n; ++j) {
+        const int e = ws.start[std::size_t(j) + 1];
+        for (int p = b + 1; p < e; ++p) {  // a stable insertion sort by row (columns hold a few dozen entries)
+            const int r = ws.rows[std::size_t(p)];
+            const double v = ws.values[std::size_t(p)];
+            int q = p;
+            for (; q > b && ws.rows[std::size_t(q) - 1] > r; --q) {
+                ws.rows[std::size_t(q)] = ws.rows[std::size_t(q) - 1];
+                ws.values[std::size_t(q)] = ws.values[std::size_t(q) - 1];
+            }
+            ws.rows[std::size_t(q)] = r;
+            ws.values[std::size_t(q)] = v;
+        }
+        ws.start[std::size_t(j)] = w;
+        for (int p = b; p < e; ++p) {
+            if (w > ws.start[std::size_t(j)] && ws.rows[std::size_t(w) - 1] == ws.rows[std::size_t(p)]) {
+                ws.values[std::size_t(w) - 1] += ws.values[std::size_t(p)];
+            } else {
+                ws.rows[std::size_t(w)] = ws.rows[std::size_t(p)];
+                ws.values[std::size_t(w)] = ws.values[std::size_t(p)];
+                ++w;
+            }
+        }
+        b = e;
+    }
+    ws.start[std::size_t(n)] = w;
+    out.resize(n, n);
+    out.resizeNonZeros(w);
+    std::copy(ws.start.begin(), ws.start.end(), out.outerIndexPtr());
+    std::copy(ws.rows.begin(), ws.rows.begin() + w, out.innerIndexPtr());
+    std::copy(ws.values.begin(), ws.values.begin() + w, out.valuePtr());
+}
+
+}  // namespace detail
+
+}  // namespace unison

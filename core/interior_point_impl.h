@@ -1,0 +1,351 @@
+// core/interior_point_impl.h — template body of the active-set path's interior-point restart (core/active_set_impl.h,
+// ActiveSetOptions::interiorPoint). Included by core/active_set_impl.h only.
+//
+// The convex relaxation of the island's problem,
+// min 1/2 p^T A p + b^T p over the cones |p_t| <= mu p_n (A = J M^-1 J^T), by Mehrotra's predictor-corrector
+// method. Per contact the constraints are C p >= 0 with C = [mu, -1; mu, 1] (one row, p_n >= 0, where mu or
+// the tangent row's diagonal is 0). Its Newton system (A + C^T S^-1 Y C) dp = g is solved in body space: with
+// H^-1 the inverse of each contact's 2 x 2 block C^T S^-1 Y C, (M + J^T H^-1 J) dv = J^T H^-1 g and
+// dp = H^-1 (g - J dv), a symmetric positive definite system of the bodies' degrees of freedom whose pattern
+// (the bodies' contact graph) does not change between iterations. The relaxation differs from the
+// Stewart–Trinkle problem only where contacts slide (it lets them separate at mu |u_t|), so its answer, with
+// the constraints whose slack is small against their multiplier taken as active, is a start the active-set
+// iteration finishes from (docs/solver.md, "Landing piles").
+#pragma once
+
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "body_space_solve.h"
+#include "symmetric_pattern_lu.h"
+
+namespace unison {
+namespace detail {
+
+/// The interior-point answer of the island's convex relaxation, rounded onto its active constraints, in xOut (p_n,
+/// p_t of contact c at 2c, 2c + 1). rowAt(c, r) is contact c's normal (r = 0) or +t (r = 1) Jacobian row, velocities(x,
+/// u) sets u = b + J M^-1 J^T x, diag the diagonal of J M^-1 J^T per unknown, dof each body's first degree of
+/// freedom (-1: immovable), bMax the largest |b|. Adds its work units to `work` and stops (false) once `maxWork`
+/// (0: none) is reached, or when a factorisation fails.
+template <class D, class RowAt, class Velocities>
+bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::vector<double>& friction,
+                        const std::vector<double>& diag, const std::vector<int>& dof, int ndof, double bMax,
+                        const RowAt& rowAt, const Velocities& velocities, std::uint64_t rowWork,
+                        SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
+                        std::vector<double>& xOut) {
+    const int nc = int(friction.size());
+    const int nb = int(bodies.size());
+    std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
+    std::vector<std::uint8_t> two(static_cast<std::size_t>(nc));
+    int m = 0;
+    for (int c = 0; c < nc; ++c) {
+        two[std::size_t(c)] = friction[std::size_t(c)] > 0.0 && diag[std::size_t(2 * c + 1)] > 0.0 ? 1 : 0;
+        m += two[std::size_t(c)] ? 2 : 1;
+    }
+    const double v0 = std::max(bMax, 1e-6);
+    std::vector<double> p(std::size_t(2 * nc), 0.0), s(std::size_t(2 * nc), 0.0), y(std::size_t(2 * nc), 0.0);
+    std::vector<double> uu(std::size_t(2 * nc)), rd(std::size_t(2 * nc)), rp(std::size_t(2 * nc), 0.0);
+    std::vector<double> e(std::size_t(2 * nc), 0.0), hinv(std::size_t(3 * nc), 0.0);
+    std::vector<double> dp(std::size_t(2 * nc)), ds(std::size_t(2 * nc), 0.0), dy(std::size_t(2 * nc), 0.0);
+    std::vector<double> dsAff(std::size_t(2 * nc), 0.0), dyAff(std::size_t(2 * nc), 0.0);
+    std::vector<double> rc(std::size_t(2 * nc), 0.0), g(std::size_t(2 * nc)), h(std::size_t(2 * nc));
+    for (int c = 0; c < nc; ++c) {
+        const int cnt = two[std::size_t(c)] ? 2 : 1;
+        for (int i = 0; i < cnt; ++i) {
+            s[std::size_t(2 * c + i)] = v0 / diag[std::size_t(2 * c)];
+            y[std::size_t(2 * c + i)] = v0;
+        }
+    }
+    auto cp = [&](const std::vector<double>& q, int c, int i) {  // row i of C q for contact c
+        const double pn = q[std::size_t(2 * c)], pt = q[std::size_t(2 * c + 1)];
+        if (!two[std::size_t(c)]) return pn;
+        return friction[std::size_t(c)] * pn + (i == 0 ? -pt : pt);
+    };
+    // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
+    // of freedom), only the values change.
+    std::vector<Eigen::Triplet<double>> kt;
+    std::vector<double> kv;
+    std::vector<int> kpos;
+    Eigen::SparseMatrix<double> Kb;
+    detail::ColumnAssembly kbAssembly;
+    SymmetricPatternLu kbFactor;
+    bool analysed = false;
+    std::vector<double> moment(std::size_t(ndof > 0 ? ndof : 1));
+    auto addRows = [&](int c, double hn, double ht) {  // moment += J_n^T hn + J_t^T ht
+        for (int r = 0; r < 2; ++r) {
+            const double v = r == 0 ? hn : ht;
+            if (v == 0.0) continue;
+            const detail::JacobianRow<D>& row = rowAt(c, r);
+            for (int sd = 0; sd < 2; ++sd) {
+                const int d = dof[std::size_t(row.body[sd])];
+                if (d < 0) continue;
+                const double j[3] = {row.lin[sd].x, row.lin[sd].y, row.ang[sd]};
+                for (int a = 0; a < 3; ++a)
+                    if (!locked[std::size_t(d + a)]) moment[std::size_t(d + a)] += v * j[a];
+            }
+        }
+    };
+    auto rowDot = [&](int c, int r, const Eigen::VectorXd& v) {  // J_r v
+        const detail::JacobianRow<D>& row = rowAt(c, r);
+        double sum = 0.0;
+        for (int sd = 0; sd < 2; ++sd) {
+            const int d = dof[std::size_t(row.body[sd])];
+            if (d < 0) continue;
+            sum += row.lin[sd].x * v[d] + row.lin[sd].y * v[d + 1] + row.ang[sd] * v[d + 2];
+        }
+        return sum;
+    };
+    auto applyHinv = [&](int c, double gn, double gt, double& hn, double& ht) {
+        const double* H = &hinv[std::size_t(3 * c)];
+        hn = H[0] * gn + H[1] * gt;
+        ht = H[1] * gn + H[2] * gt;
+    };
+    for (int k = 0; k < nb; ++k) {
+        const int d = dof[std::size_t(k)];
+        if (d < 0) continue;
+        const ResolverBody<D>& B = bodies[std::size_t(k)];
+        const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+        for (int a = 0; a < 3; ++a) locked[std::size_t(d + a)] = inv[a] > 0.0 ? 0 : 1;
+    }
+    // Direction for a complementarity target rc (rd, rp, s, y, hinv and the factors current).
+    auto direction = [&]() -> bool {
+        std::fill(moment.begin(), moment.end(), 0.0);
+        for (int c = 0; c < nc; ++c) {
+            double wn = 0.0, wt = 0.0;  // C^T (rc + y rp) / s
+            if (two[std::size_t(c)]) {
+                const double w0 = (rc[std::size_t(2 * c)] + y[std::size_t(2 * c)] * rp[std::size_t(2 * c)]) /
+                                  s[std::size_t(2 * c)];
+                const double w1 = (rc[std::size_t(2 * c + 1)] +
+                                   y[std::size_t(2 * c + 1)] * rp[std::size_t(2 * c + 1)]) /
+                                  s[std::size_t(2 * c + 1)];
+                wn = friction[std::size_t(c)] * (w0 + w1);
+                wt = w1 - w0;
+            } else {
+                wn = (rc[std::size_t(2 * c)] + y[std::size_t(2 * c)] * rp[std::size_t(2 * c)]) /
+                     s[std::size_t(2 * c)];
+            }
+            g[std::size_t(2 * c)] = -rd[std::size_t(2 * c)] - wn;
+            g[std::size_t(2 * c + 1)] = -rd[std::size_t(2 * c + 1)] - wt;
+            double hn = 0.0, ht = 0.0;
+            applyHinv(c, g[std::size_t(2 * c)], g[std::size_t(2 * c + 1)], hn, ht);
+            addRows(c, hn, ht);
+        }
+        Eigen::VectorXd rv(ndof);
+        for (int i = 0; i < ndof; ++i) rv[i] = moment[std::size_t(i)];
+        const Eigen::VectorXd dv = ndof > 0 ? kbFactor.solve(rv) : rv;
+        work += 4 * std::uint64_t(kbFactor.factorNonZeros()) + rowWork;
+        for (int c = 0; c < nc; ++c) {
+            const double gn = g[std::size_t(2 * c)] - rowDot(c, 0, dv);
+            const double gt = g[std::size_t(2 * c + 1)] - rowDot(c, 1, dv);
+            applyHinv(c, gn, gt, dp[std::size_t(2 * c)], dp[std::size_t(2 * c + 1)]);
+            const int cnt = two[std::size_t(c)] ? 2 : 1;
+            for (int i = 0; i < cnt; ++i) {
+                const std::size_t j = std::size_t(2 * c + i);
+                ds[j] = cp(dp, c, i) + rp[j];
+                dy[j] = -(rc[j] + y[j] * ds[j]) / s[j];
+            }
+        }
+        for (double v : dp) if (!std::isfinite(v)) return false;
+        return true;
+    };
+    auto maxStep = [&](const std::vector<double>& v, const std::vector<double>& dv) {
+        double a = 1.0;
+        for (int c = 0; c < nc; ++c) {
+            const int cnt = two[std::size_t(c)] ? 2 : 1;
+            for (int i = 0; i < cnt; ++i) {
+                const std::size_t j = std::size_t(2 * c + i);
+                if (dv[j] < 0.0) a = std::min(a, -v[j] / dv[j]);
+            }
+        }
+        return a;
+    };
+    double mu0 = 0.0;
+    constexpr int kInteriorIterations = 40;
+    constexpr double kStableGap = 1e-8;
+    // Bit 0: the first constraint is active (its slack small against its multiplier), bit 1: the second.
+    auto activeOf = [&](int c) -> std::uint8_t {
+        const double gn = diag[std::size_t(2 * c)];
+        const bool a0 = s[std::size_t(2 * c)] * gn <= y[std::size_t(2 * c)];
+        const bool a1 = two[std::size_t(c)] && s[std::size_t(2 * c + 1)] * gn <= y[std::size_t(2 * c + 1)];
+        return std::uint8_t((a0 ? 1 : 0) | (a1 ? 2 : 0));
+    };
+    std::vector<std::uint8_t> cls(static_cast<std::size_t>(nc), 0), prevCls(static_cast<std::size_t>(nc), 255);
+    bool ok = false;
+    for (int it = 0; it < kInteriorIterations; ++it) {
+        if (maxWork > 0 && work >= maxWork) return false;
+        velocities(p, uu);
+        work += rowWork;
+        double gap = 0.0, rdMax = 0.0, rpMax = 0.0;
+        for (int c = 0; c < nc; ++c) {
+            const double ys0 = y[std::size_t(2 * c)], ys1 = y[std::size_t(2 * c + 1)];
+            if (two[std::size_t(c)]) {
+                rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - friction[std::size_t(c)] * (ys0 + ys1);
+                rd[std::size_t(2 * c + 1)] = uu[std::size_t(2 * c + 1)] + ys0 - ys1;
+            } else {
+                rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - ys0;
+                rd[std::size_t(2 * c + 1)] = 0.0;  // p_t stays 0 (H^-1 has no tangent part)
+            }
+            rdMax = std::max({rdMax, std::fabs(rd[std::size_t(2 * c)]), std::fabs(rd[std::size_t(2 * c + 1)])});
+            const int cnt = two[std::size_t(c)] ? 2 : 1;
+            for (int i = 0; i < cnt; ++i) {
+                const std::size_t j = std::size_t(2 * c + i);
+                rp[j] = cp(p, c, i) - s[j];
+                rpMax = std::max(rpMax, std::fabs(rp[j]) * diag[std::size_t(2 * c)]);
+                gap += s[j] * y[j];
+            }
+        }
+        const double mub = gap / double(m);
+        if (it == 0) mu0 = mub;
+        // Once the gap is small, stop when the active constraints are those of the last iteration: the
+        // active-set iteration finishes from there.
+        if (mub <= kStableGap * mu0) {
+            for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
+            if (cls == prevCls) {
+                ok = true;
+                break;
+            }
+            prevCls = cls;
+        }
+        if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) {
+            ok = true;
+            break;
+        }
+        // H^-1 per contact from e = s / y (capped: a contact inside its cone becomes a stiff constraint).
+        for (int c = 0; c < nc; ++c) {
+            const double gn = diag[std::size_t(2 * c)];
+            const int cnt = two[std::size_t(c)] ? 2 : 1;
+            for (int i = 0; i < cnt; ++i) {
+                const std::size_t j = std::size_t(2 * c + i);
+                e[j] = std::min(s[j] / y[j], 1e12 / gn);
+            }
+            double* H = &hinv[std::size_t(3 * c)];
+            if (two[std::size_t(c)]) {
+                const double mu = friction[std::size_t(c)];
+                const double e0 = e[std::size_t(2 * c)], e1 = e[std::size_t(2 * c + 1)];
+                H[0] = (e0 + e1) / (4.0 * mu * mu);
+                H[1] = (e1 - e0) / (4.0 * mu);
+                H[2] = (e0 + e1) / 4.0;
+            } else {
+                H[0] = e[std::size_t(2 * c)];
+                H[1] = H[2] = 0.0;
+            }
+        }
+        // Entries in a fixed order: the first iteration assembles the pattern, the later ones write the values
+        // where the first put them (the same sums in the same order as assembleColumns).
+        kt.clear();
+        kv.clear();
+        auto put = [&](int r, int col, double v) {
+            if (!analysed) kt.emplace_back(r, col, v);
+            kv.push_back(v);
+        };
+        for (int k = 0; k < nb; ++k) {
+            const int d = dof[std::size_t(k)];
+            if (d < 0) continue;
+            const ResolverBody<D>& B = bodies[std::size_t(k)];
+            const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+            for (int a = 0; a < 3; ++a) put(d + a, d + a, inv[a] > 0.0 ? 1.0 / inv[a] : 1.0);
+        }
+        for (int c = 0; c < nc; ++c) {
+            const detail::JacobianRow<D>& rn = rowAt(c, 0);
+            const detail::JacobianRow<D>& rt = rowAt(c, 1);
+            const double* H = &hinv[std::size_t(3 * c)];
+            for (int sa = 0; sa < 2; ++sa) {
+                const int da = dof[std::size_t(rn.body[sa])];
+                if (da < 0) continue;
+                const double na[3] = {rn.lin[sa].x, rn.lin[sa].y, rn.ang[sa]};
+                const double ta[3] = {rt.lin[sa].x, rt.lin[sa].y, rt.ang[sa]};
+                for (int sb = 0; sb < 2; ++sb) {
+                    const int db = dof[std::size_t(rn.body[sb])];
+                    if (db < 0) continue;
+                    const double nbv[3] = {rn.lin[sb].x, rn.lin[sb].y, rn.ang[sb]};
+                    const double tbv[3] = {rt.lin[sb].x, rt.lin[sb].y, rt.ang[sb]};
+                    for (int a = 0; a < 3; ++a) {
+                        if (locked[std::size_t(da + a)]) continue;
+                        for (int bb = 0; bb < 3; ++bb) {
+                            if (locked[std::size_t(db + bb)]) continue;
+                            const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
+                                             ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
+                            put(da + a, db + bb, v);
+                        }
+                    }
+                }
+            }
+        }
+        if (ndof > 0) {
+            if (!analysed) {
+                detail::assembleColumns(ndof, kt, Kb, kbAssembly);
+                kbFactor.analyzePattern(Kb, cache);
+                analysed = true;
+                kpos.resize(kt.size());
+                for (std::size_t t = 0; t < kt.size(); ++t) {
+                    const int col = kt[t].col();
+                    const int* rows = Kb.innerIndexPtr();
+                    const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],
+                                                     rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
+                    kpos[t] = int(at - rows);
+                }
+            } else {
+                double* values = Kb.valuePtr();
+                std::fill(values, values + Kb.nonZeros(), 0.0);
+                for (std::size_t t = 0; t < kv.size(); ++t) values[kpos[t]] += kv[t];
+            }
+            if (!kbFactor.factorize(Kb, true)) return false;
+            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * std::uint64_t(kv.size());
+        }
+        // Predictor (affine scaling).
+        for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];
+        if (!direction()) return false;
+        const double ap = maxStep(s, ds), ad = maxStep(y, dy);
+        const double aAff = std::min(ap, ad);
+        double gapAff = 0.0;
+        for (std::size_t j = 0; j < s.size(); ++j) gapAff += (s[j] + aAff * ds[j]) * (y[j] + aAff * dy[j]);
+        const double ratio = gapAff / double(m) / mub;
+        const double sigma = ratio * ratio * ratio;
+        dsAff = ds;
+        dyAff = dy;
+        // Corrector.
+        for (int c = 0; c < nc; ++c) {
+            const int cnt = two[std::size_t(c)] ? 2 : 1;
+            for (int i = 0; i < cnt; ++i) {
+                const std::size_t j = std::size_t(2 * c + i);
+                rc[j] = s[j] * y[j] + dsAff[j] * dyAff[j] - sigma * mub;
+            }
+        }
+        if (!direction()) return false;
+        const double alpha = std::min(1.0, 0.99 * std::min(maxStep(s, ds), maxStep(y, dy)));
+        for (std::size_t j = 0; j < p.size(); ++j) {
+            p[j] += alpha * dp[j];
+            s[j] += alpha * ds[j];
+            y[j] += alpha * dy[j];
+        }
+        ok = true;
+    }
+    if (!ok) return false;
+    // The answer with the constraints whose slack is small against their multiplier taken as active.
+    for (int c = 0; c < nc; ++c) {
+        double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
+        const std::uint8_t act = activeOf(c);
+        const bool a0 = (act & 1) != 0, a1 = (act & 2) != 0;
+        const double mu = friction[std::size_t(c)];
+        if (!two[std::size_t(c)]) {
+            if (a0) pn = 0.0;
+            pt = 0.0;
+        } else if (a0 && a1) {
+            pn = pt = 0.0;
+        } else if (a0) {
+            pt = mu * std::max(pn, 0.0);
+        } else if (a1) {
+            pt = -mu * std::max(pn, 0.0);
+        }
+        xOut[std::size_t(2 * c)] = pn;
+        xOut[std::size_t(2 * c + 1)] = pt;
+    }
+    return true;
+}
+
+}  // namespace detail
+}  // namespace unison
