@@ -21,10 +21,10 @@
 //     resting island's face rarely changes, so this is usually 1-4 factorisations;
 //   - when phase 0 does not certify and its best residual is above 10 tolerances, or at once when the warm start's
 //     residual is above 1000 (ActiveSetOptions::interiorPoint: a landing, not a settled island at the tolerance's
-//     floor), the path restarts once from the interior-point
-//     answer of the convex relaxation (Mehrotra's predictor-corrector on the cones |p_t| <= mu p_n, its Newton
-//     systems M + J^T H^-1 J in the bodies' degrees of freedom), on that answer's face first; that answer is then
-//     the start of phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
+//     floor), the path restarts once from the interior-point answer of the convex relaxation (Mehrotra's
+//     predictor-corrector on the cones |p_t| <= mu p_n, its Newton systems M + J^T H^-1 J in the bodies' degrees
+//     of freedom; core/interior_point_impl.h), on that answer's face first; that answer is then the start of
+//     phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
 //     as it stands;
 //   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
@@ -213,7 +213,6 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             x[std::size_t(2 * c)] = w[0];
             x[std::size_t(2 * c + 1)] = D::dot(D::fromComponents(w + 1), sys.dirs[std::size_t(2 * c)]);
         }
-        std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         auto interiorPoint = [&](std::vector<double>& xOut) {
             return detail::interiorPointStart<D>(ioBodies, sys.mu, diag, dof, ndof, bMax, rowAt, velocities, rowWork,
                                                  settings.patternCache, settings.maxWork, work, xOut);
@@ -236,6 +235,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<Eigen::Triplet<double>> slipTriplets;
         detail::ColumnAssembly assembly;
         Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
+        std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
         int iterations = 0;
         bool solved = false;

@@ -52,7 +52,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     std::vector<double> e(std::size_t(2 * nc), 0.0), hinv(std::size_t(3 * nc), 0.0);
     std::vector<double> dp(std::size_t(2 * nc)), ds(std::size_t(2 * nc), 0.0), dy(std::size_t(2 * nc), 0.0);
     std::vector<double> dsAff(std::size_t(2 * nc), 0.0), dyAff(std::size_t(2 * nc), 0.0);
-    std::vector<double> rc(std::size_t(2 * nc), 0.0), g(std::size_t(2 * nc)), h(std::size_t(2 * nc));
+    std::vector<double> rc(std::size_t(2 * nc), 0.0), g(std::size_t(2 * nc));
     for (int c = 0; c < nc; ++c) {
         const int cnt = two[std::size_t(c)] ? 2 : 1;
         for (int i = 0; i < cnt; ++i) {
@@ -174,7 +174,6 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         return std::uint8_t((a0 ? 1 : 0) | (a1 ? 2 : 0));
     };
     std::vector<std::uint8_t> cls(static_cast<std::size_t>(nc), 0), prevCls(static_cast<std::size_t>(nc), 255);
-    bool ok = false;
     for (int it = 0; it < kInteriorIterations; ++it) {
         if (maxWork > 0 && work >= maxWork) return false;
         velocities(p, uu);
@@ -204,16 +203,10 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         // active-set iteration finishes from there.
         if (mub <= kStableGap * mu0) {
             for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
-            if (cls == prevCls) {
-                ok = true;
-                break;
-            }
+            if (cls == prevCls) break;
             prevCls = cls;
         }
-        if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) {
-            ok = true;
-            break;
-        }
+        if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) break;
         // H^-1 per contact from e = s / y (capped: a contact inside its cone becomes a stiff constraint).
         for (int c = 0; c < nc; ++c) {
             const double gn = diag[std::size_t(2 * c)];
@@ -322,9 +315,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             s[j] += alpha * ds[j];
             y[j] += alpha * dy[j];
         }
-        ok = true;
     }
-    if (!ok) return false;
     // The answer with the constraints whose slack is small against their multiplier taken as active.
     for (int c = 0; c < nc; ++c) {
         double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];

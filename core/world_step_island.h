@@ -225,7 +225,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             fastOptions.patternCache = &worker.patterns;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
             // With a budget the path stops at what is left of the island's grant, as Lemke does.
-            if (budgeted) fastOptions.maxWork = std::max<std::uint64_t>(1, job.grant > spent ? job.grant - spent : 1);
+            if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
             ResolverOptions pathOptions = options;
             if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
