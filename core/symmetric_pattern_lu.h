@@ -41,13 +41,16 @@ struct SymmetricPatternAnalysis {
     std::vector<int> parent, colPtr;         // elimination tree; where each column of L (row of U) starts
     std::vector<int> upperStart, upperAt, upperRow;  // column k of P A P^T on and above the diagonal: a's entries
     std::vector<int> lowerStart, lowerAt, lowerCol;  // row k of P A P^T left of the diagonal: a's entries
+    std::vector<int> reachStart, reach;      // row k of L: its columns in the order factorize eliminates them
+    std::vector<int> lowerRow;               // column j of L below the diagonal: its rows, from colPtr[j]
 
     /// The analysis of `a` (square, compressed).
     static std::shared_ptr<const SymmetricPatternAnalysis> of(const Eigen::SparseMatrix<double>& a);
     std::size_t bytes() const {
         return sizeof(*this) + sizeof(int) * (perm.size() + iperm.size() + parent.size() + colPtr.size() +
                                               upperStart.size() + upperAt.size() + upperRow.size() +
-                                              lowerStart.size() + lowerAt.size() + lowerCol.size());
+                                              lowerStart.size() + lowerAt.size() + lowerCol.size() +
+                                              reachStart.size() + reach.size() + lowerRow.size());
     }
 };
 
@@ -148,7 +151,6 @@ public:
         }
         an_ = cache ? cache->analysisOf(a) : SymmetricPatternAnalysis::of(a);
         const std::size_t nnz = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
-        rowIdx_.assign(nnz, 0);
         lx_.assign(nnz, 0.0);
         ux_.assign(nnz, 0.0);
     }
@@ -168,36 +170,25 @@ public:
         d_.assign(std::size_t(n), 0.0);
         y_.assign(std::size_t(n), 0.0);
         z_.assign(std::size_t(n), 0.0);
-        pattern_.assign(std::size_t(n), 0);
         filled_.assign(std::size_t(n), 0);
-        flag_.assign(std::size_t(n), -1);
+        const int* lowerRow = an.lowerRow.data();
         for (int k = 0; k < n; ++k) {
-            // Column k of P A P^T above the diagonal into y, row k left of it into z, and their common pattern (the
-            // rows of L reached from it through the elimination tree) in topological order at pattern_[top..n).
-            int top = n;
-            flag_[std::size_t(k)] = k;
-            for (int e = an.upperStart[std::size_t(k)]; e < an.upperStart[std::size_t(k) + 1]; ++e) {
-                int i = an.upperRow[std::size_t(e)];
-                y_[std::size_t(i)] += value[an.upperAt[std::size_t(e)]];
-                int len = 0;
-                for (; flag_[std::size_t(i)] != k; i = an.parent[std::size_t(i)]) {
-                    pattern_[std::size_t(len++)] = i;
-                    flag_[std::size_t(i)] = k;
-                }
-                while (len > 0) pattern_[std::size_t(--top)] = pattern_[std::size_t(--len)];
-            }
+            // Column k of P A P^T above the diagonal into y and row k left of it into z; their common pattern (the
+            // rows of L reached from it through the elimination tree) is an.reach in topological order.
+            for (int e = an.upperStart[std::size_t(k)]; e < an.upperStart[std::size_t(k) + 1]; ++e)
+                y_[std::size_t(an.upperRow[std::size_t(e)])] += value[an.upperAt[std::size_t(e)]];
             double dk = y_[std::size_t(k)];
             y_[std::size_t(k)] = 0.0;
+            const int r0 = an.reachStart[std::size_t(k)], r1 = an.reachStart[std::size_t(k) + 1];
             if (symmetricValues) {
-                for (; top < n; ++top) {
-                    const int i = pattern_[std::size_t(top)];
+                for (int t = r0; t < r1; ++t) {
+                    const int i = an.reach[std::size_t(t)];
                     const double yi = y_[std::size_t(i)];
                     y_[std::size_t(i)] = 0.0;
                     const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
-                    for (int p = begin; p < end; ++p) y_[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * yi;
+                    for (int p = begin; p < end; ++p) y_[std::size_t(lowerRow[p])] -= lx_[std::size_t(p)] * yi;
                     const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
                     dk -= lki * yi;
-                    rowIdx_[std::size_t(end)] = k;
                     lx_[std::size_t(end)] = lki;
                     ux_[std::size_t(end)] = lki;
                     ++filled_[std::size_t(i)];
@@ -209,20 +200,19 @@ public:
             for (int e = an.lowerStart[std::size_t(k)]; e < an.lowerStart[std::size_t(k) + 1]; ++e) {
                 z_[std::size_t(an.lowerCol[std::size_t(e)])] += value[an.lowerAt[std::size_t(e)]];
             }
-            for (; top < n; ++top) {
-                const int i = pattern_[std::size_t(top)];
+            for (int t = r0; t < r1; ++t) {
+                const int i = an.reach[std::size_t(t)];
                 const double yi = y_[std::size_t(i)], zi = z_[std::size_t(i)];
                 y_[std::size_t(i)] = 0.0;
                 z_[std::size_t(i)] = 0.0;
                 const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
                 for (int p = begin; p < end; ++p) {
-                    y_[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * yi;
-                    z_[std::size_t(rowIdx_[std::size_t(p)])] -= ux_[std::size_t(p)] * zi;
+                    y_[std::size_t(lowerRow[p])] -= lx_[std::size_t(p)] * yi;
+                    z_[std::size_t(lowerRow[p])] -= ux_[std::size_t(p)] * zi;
                 }
                 const double lki = zi / d_[std::size_t(i)];  // L(k, i)
                 const double uik = yi / d_[std::size_t(i)];  // U(i, k)
                 dk -= lki * yi;
-                rowIdx_[std::size_t(end)] = k;
                 lx_[std::size_t(end)] = lki;
                 ux_[std::size_t(end)] = uik;
                 ++filled_[std::size_t(i)];
@@ -244,13 +234,13 @@ public:
             const double wj = w[std::size_t(j)];
             if (wj == 0.0) continue;
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                w[std::size_t(rowIdx_[std::size_t(p)])] -= lx_[std::size_t(p)] * wj;
+                w[std::size_t(an.lowerRow[std::size_t(p)])] -= lx_[std::size_t(p)] * wj;
         }
         for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
         for (int j = n - 1; j >= 0; --j) {  // U w'' = w'
             double s = w[std::size_t(j)];
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                s -= ux_[std::size_t(p)] * w[std::size_t(rowIdx_[std::size_t(p)])];
+                s -= ux_[std::size_t(p)] * w[std::size_t(an.lowerRow[std::size_t(p)])];
             w[std::size_t(j)] = s;
         }
         Eigen::VectorXd x(n);
@@ -259,13 +249,12 @@ public:
     }
 
     /// Entries of L below its diagonal (U above it has as many).
-    std::size_t factorNonZeros() const { return rowIdx_.size(); }
+    std::size_t factorNonZeros() const { return lx_.size(); }
 
 private:
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
-    std::vector<int> rowIdx_;
     std::vector<double> lx_, ux_, d_;
-    std::vector<int> flag_, pattern_, filled_;  // factorize's scratch
+    std::vector<int> filled_;  // factorize's scratch
     std::vector<double> y_, z_;
     mutable std::vector<double> work_;
 };
@@ -337,6 +326,34 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     }
     r.colPtr.assign(std::size_t(n) + 1, 0);
     for (int k = 0; k < n; ++k) r.colPtr[std::size_t(k) + 1] = r.colPtr[std::size_t(k)] + count[std::size_t(k)];
+    // Each row's reach through the elimination tree, in the topological order factorize eliminates it (for each
+    // entry of column k above the diagonal, in storage order, the path up to an already reached node, that path
+    // put before the ones found earlier), and the rows of each column of L.
+    r.reachStart.assign(std::size_t(n) + 1, 0);
+    r.reach.reserve(std::size_t(r.colPtr[std::size_t(n)]));
+    r.lowerRow.assign(std::size_t(r.colPtr[std::size_t(n)]), 0);
+    std::vector<int> filled(static_cast<std::size_t>(n), 0), path(static_cast<std::size_t>(n), 0),
+        order(static_cast<std::size_t>(n), 0);
+    std::fill(flag.begin(), flag.end(), -1);
+    for (int k = 0; k < n; ++k) {
+        int top = n;
+        flag[std::size_t(k)] = k;
+        for (int e = r.upperStart[std::size_t(k)]; e < r.upperStart[std::size_t(k) + 1]; ++e) {
+            int i = r.upperRow[std::size_t(e)];
+            int len = 0;
+            for (; flag[std::size_t(i)] != k; i = r.parent[std::size_t(i)]) {
+                path[std::size_t(len++)] = i;
+                flag[std::size_t(i)] = k;
+            }
+            while (len > 0) order[std::size_t(--top)] = path[std::size_t(--len)];
+        }
+        for (; top < n; ++top) {
+            const int i = order[std::size_t(top)];
+            r.reach.push_back(i);
+            r.lowerRow[std::size_t(r.colPtr[std::size_t(i)] + filled[std::size_t(i)]++)] = k;
+        }
+        r.reachStart[std::size_t(k) + 1] = int(r.reach.size());
+    }
     return out;
 }
 
