@@ -301,6 +301,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         continue;
                     }
                 }
+                if (phase == 0 && settings.floorExit > 0.0 && bestResidual <= settings.floorExit * tolAbs &&
+                    bestResidual / scale <= options.acceptResidual)
+                    break;  // a near miss at the face's floor (ActiveSetOptions::floorExit)
                 if (phase == 0) {
                     // The active-set iteration from the warm start.
                     phase = 1;
@@ -347,7 +350,12 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 const double gt = diag[std::size_t(2 * c + 1)];
                 const double bound = sys.mu[std::size_t(c)] * (polish ? pn : yn);
                 const double yt = gt > 0.0 ? (polish ? pt : pt - ue[std::size_t(2 * c + 1)] / gt) : 0.0;
-                const bool sticks = gt > 0.0 && (polish ? std::fabs(pt) < sys.mu[std::size_t(c)] * pn
+                // ActiveSetOptions::stickWrongWaySlip: a rim contact of a kept face that slides along its friction
+                // impulse sticks (its slip was the face's error).
+                const bool wrongWay = polish && settings.stickWrongWaySlip && pn > 0.0 &&
+                                      pt * u[std::size_t(2 * c + 1)] > 0.0 &&
+                                      std::fabs(u[std::size_t(2 * c + 1)]) > 0.5 * tolAbs;
+                const bool sticks = gt > 0.0 && (polish ? std::fabs(pt) < sys.mu[std::size_t(c)] * pn || wrongWay
                                                         : std::fabs(yt) <= bound + tolAbs / gt);
                 if (sticks) {
                     state[std::size_t(c)] = kStick;

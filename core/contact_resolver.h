@@ -172,6 +172,14 @@ struct ActiveSetOptions {
     /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
     /// convex relaxation (docs/solver.md).
     bool interiorPoint = true;
+    /// When > 0: a solve whose phase 0 (the warm start's face) ends uncertified with its best iterate within this
+    /// many tolerances, and within options.acceptResidual, ends there as a near miss instead of running phases 1
+    /// and 2 (which change the face; a miss this close is the face's numerical floor, not a wrong face).
+    double floorExit = 0.0;
+    /// On a kept face (phases 0 and 2), a contact on its cone's rim that slides the way its friction impulse pushes
+    /// (u_t of p_t's sign beyond half a tolerance, which the LCP forbids) sticks in the next step instead of
+    /// slipping on.
+    bool stickWrongWaySlip = false;
 };
 
 /// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started

@@ -68,7 +68,6 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
     // of freedom), only the values change.
     std::vector<Eigen::Triplet<double>> kt;
-    std::vector<double> kv;
     std::vector<int> kpos;
     Eigen::SparseMatrix<double> Kb;
     detail::ColumnAssembly kbAssembly;
@@ -227,13 +226,18 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 H[1] = H[2] = 0.0;
             }
         }
-        // Entries in a fixed order: the first iteration assembles the pattern, the later ones write the values
+        // Entries in a fixed order: the first iteration assembles the pattern, the later ones add the values
         // where the first put them (the same sums in the same order as assembleColumns).
-        kt.clear();
-        kv.clear();
+        if (!analysed) kt.clear();
+        double* values = analysed ? Kb.valuePtr() : nullptr;
+        if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
+        std::size_t entry = 0;
         auto put = [&](int r, int col, double v) {
-            if (!analysed) kt.emplace_back(r, col, v);
-            kv.push_back(v);
+            if (!analysed)
+                kt.emplace_back(r, col, v);
+            else
+                values[kpos[entry]] += v;
+            ++entry;
         };
         for (int k = 0; k < nb; ++k) {
             const int d = dof[std::size_t(k)];
@@ -281,13 +285,9 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                                                      rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
                     kpos[t] = int(at - rows);
                 }
-            } else {
-                double* values = Kb.valuePtr();
-                std::fill(values, values + Kb.nonZeros(), 0.0);
-                for (std::size_t t = 0; t < kv.size(); ++t) values[kpos[t]] += kv[t];
             }
             if (!kbFactor.factorize(Kb, true)) return false;
-            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * std::uint64_t(kv.size());
+            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * std::uint64_t(entry);
         }
         // Predictor (affine scaling).
         for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];

@@ -117,6 +117,10 @@ constexpr int kActiveSetMinContacts = 64;
 /// restart's answers keep islands on the path that cost less on Lemke (the five-level card house: 1.03 against
 /// 0.47 ms/step); above it a landing pile's warm starts cost Lemke minutes (docs/solver.md).
 constexpr int kPathFirstContacts = 1024;
+/// On those islands a solve whose warm face ends within this many tolerances of the certificate is a near miss
+/// there (ActiveSetOptions::floorExit): on the 100-row large pyramid no such solve was certified by the 20 more
+/// factorisations of the later phases (0 of 8 in 300 steps), each ~60 ms.
+constexpr double kFloorExit = 10.0;
 
 /// Friction-LCP layout of DESIGN.md (FrictionLayout): unknowns [normals (nc) | tangents (nc x k) | slacks (nc)].
 /// Mask bits of one contact: bit 0 normal, bits 1..k its tangents, bit k + 1 its slack (k <= 30).

@@ -224,6 +224,12 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
+            // A big island's iterations are factorisations of thousands of unknowns: a near miss at the floor of
+            // the warm start's face ends there (kFloorExit, step_support.h).
+            if (bigIsland) {
+                fastOptions.floorExit = kFloorExit;
+                fastOptions.stickWrongWaySlip = true;
+            }
             // With a budget the path stops at what is left of the island's grant, as Lemke does.
             if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
             ResolverOptions pathOptions = options;

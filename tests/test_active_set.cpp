@@ -242,6 +242,103 @@ TEST_CASE("active-set path: a warm start far from the answer restarts from the i
     }
 }
 
+TEST_CASE("active-set path: with stickWrongWaySlip a rim contact sliding along its friction sticks on the warm face") {
+    // A two-row wall sliding slowly sideways (0.05 m/s, mu 0.6: the ground's friction stops it within the step),
+    // warm-started from the resting answer with every ground contact's friction on its cone's rim along the slide, as
+    // if friction pushed the wall on. On that face those contacts slide the way their friction pushes, which the LCP
+    // forbids. With stickWrongWaySlip (the world sets it on islands of kPathFirstContacts+ contacts) they stick, and
+    // the answer is certified on the warm start's face (phase 0) with the wall at rest; without it that face is left
+    // uncertified and phase 1 finds the answer, at more work. The interior-point restart is off, so that phase 0
+    // sees this start.
+    Wall wall = restingWall(6, 2, 0.6);
+    for (auto& b : wall.bodies)
+        if (b.invMass > 0.0) b.velocity.x = 0.05;
+    ResolverOptions options;
+    options.frictionDirections = 2;
+    std::vector<double> warm;
+    for (const Contact2& c : wall.contacts) {
+        const bool ground = c.b == 0;
+        const double pn = ground ? 2.0 / 60.0 * 10.0 / 2.0 : 0.0;  // each column's weight on its two points
+        warm.push_back(pn);
+        warm.push_back(ground ? c.friction * pn : 0.0);  // along +x, the slide
+        warm.push_back(0.0);
+    }
+    ActiveSetOptions fix;
+    fix.interiorPoint = false;
+    fix.stickWrongWaySlip = true;
+    std::vector<Body2> bodies = wall.bodies;
+    const Resolution r = resolveActiveSet(bodies, wall.contacts, warm, options, fix);
+    REQUIRE(r.status == LcpStatus::solved);
+    CHECK(r.warmFace);
+    CHECK(assembledResidual(wall.bodies, wall.contacts, r, options) <= options.lcp.residualTolerance + 1e-13);
+    for (std::size_t k = 1; k < bodies.size(); ++k) {
+        CHECK(std::fabs(bodies[k].velocity.x) <= 1e-8);
+        CHECK(std::fabs(bodies[k].velocity.y) <= 1e-8);
+    }
+    // The ground's friction takes the wall's momentum (12 boxes of 1 kg at 0.05 m/s), against the slide.
+    double friction = 0.0;
+    for (std::size_t c = 0; c < wall.contacts.size(); ++c)
+        if (wall.contacts[c].b == 0) friction += r.tangentImpulses[2 * c];
+    CHECK(friction == doctest::Approx(-0.6).epsilon(1e-9));
+    ActiveSetOptions plain;
+    plain.interiorPoint = false;
+    std::vector<Body2> other = wall.bodies;
+    const Resolution p = resolveActiveSet(other, wall.contacts, warm, options, plain);
+    MESSAGE("work with the rule " << r.work << ", without " << p.work);
+    CHECK(p.status == LcpStatus::solved);
+    CHECK(!p.warmFace);
+    CHECK(p.work > 2 * r.work);
+}
+
+TEST_CASE("active-set path: with floorExit a warm face that ends just above the tolerance is a near miss there") {
+    // A 16 x 16 resting wall warm-started from its own answer, certified against a tolerance at the floor of
+    // rounding (3e-16 scaled): the warm start's face ends a little above it. With floorExit (the world sets it on
+    // islands of kPathFirstContacts+ contacts, where every iteration is a large factorisation) the answer is that
+    // face's best iterate, applied as a near miss; without it phases 1 and 2 run and end no better.
+    const Wall wall = restingWall(16, 16, 0.6);
+    ResolverOptions options;
+    options.frictionDirections = 2;
+    options.acceptResidual = 1e-6;
+    std::vector<Body2> first = wall.bodies;
+    const Resolution cold = resolveActiveSet(first, wall.contacts, std::vector<double>(wall.contacts.size() * 3, 0.0),
+                                             options, ActiveSetOptions{});
+    REQUIRE(cold.status == LcpStatus::solved);
+    std::vector<double> warm;
+    for (std::size_t c = 0; c < wall.contacts.size(); ++c) {
+        warm.push_back(cold.impulses[c]);
+        warm.push_back(cold.tangentImpulses[2 * c]);
+        warm.push_back(cold.tangentImpulses[2 * c + 1]);
+    }
+    options.lcp.residualTolerance = 3e-16;
+    ActiveSetOptions floor;
+    floor.floorExit = 10.0;
+    std::vector<Body2> withExit = wall.bodies, without = wall.bodies;
+    const Resolution e = resolveActiveSet(withExit, wall.contacts, warm, options, floor);
+    const Resolution f = resolveActiveSet(without, wall.contacts, warm, options, ActiveSetOptions{});
+    MESSAGE("floorExit: " << e.scaledResidual / options.lcp.residualTolerance << " tolerances, work " << e.work
+                          << "; without: " << f.scaledResidual / options.lcp.residualTolerance << ", work " << f.work);
+    CHECK(e.status == LcpStatus::numerical_failure);
+    CHECK(e.approximate);
+    CHECK(e.activeSet);
+    CHECK(e.scaledResidual > options.lcp.residualTolerance);
+    CHECK(e.scaledResidual <= 10.0 * options.lcp.residualTolerance);
+    CHECK(f.approximate);
+    CHECK(e.work < f.work);
+    for (std::size_t k = 1; k < withExit.size(); ++k) {  // applied: the wall at rest
+        CHECK(std::fabs(withExit[k].velocity.x) <= 1e-12);
+        CHECK(std::fabs(withExit[k].velocity.y) <= 1e-12);
+    }
+    // Where the warm face certifies, floorExit changes nothing.
+    options.lcp.residualTolerance = 1e-9;
+    std::vector<Body2> a = wall.bodies, b = wall.bodies;
+    const Resolution ea = resolveActiveSet(a, wall.contacts, warm, options, floor);
+    const Resolution fb = resolveActiveSet(b, wall.contacts, warm, options, ActiveSetOptions{});
+    REQUIRE(ea.status == LcpStatus::solved);
+    CHECK(ea.warmFace);
+    CHECK(ea.work == fb.work);
+    CHECK(std::memcmp(ea.impulses.data(), fb.impulses.data(), ea.impulses.size() * sizeof(double)) == 0);
+}
+
 TEST_CASE("a landing 30-row testbed pyramid: its big islands stay on the active-set path, with no Lemke pivot") {
     // Boxes 0.25 m apart land row by row onto a growing pile (islands up to ~1800 contacts). Islands of
     // kPathFirstContacts or more go to the path even after Lemke answered them, and the path restarts from its

@@ -42,7 +42,7 @@ const Golden kGolden[] = {
     {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
     {"pyramid16", 120, 0x71af7ec9139e3e83ull, 0x351578948ca98057ull},
     {"large_pyramid24", 30, 0xb78e29bed505b7abull, 0x8f28dd27e8abe96full},
-    {"pyramid24_landing", 100, 0xa05659cb03fdb179ull, 0xcc9ffd745efb35d2ull},
+    {"pyramid24_landing", 100, 0x48200c21955472eaull, 0xb1326cc003bec3e9ull},
     {"box_heap3d", 180, 0xb7c77e83c4a1aadbull, 0xbd4a1d7c999ba77cull},
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
     {"bunnies3d", 240, 0x8e2b01043affc298ull, 0xf8ed5214d76f3ddcull},
