@@ -450,7 +450,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;
                 }
-                if (factor.factorize(K)) {
+                // Without slipping contacts K's values are symmetric too: the L D L^T variant computes the same
+                // factors (the same operations on the same values, U = L^T) with a third less work.
+                if (factor.factorize(K, slipTriplets.empty())) {
                     const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
                     work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
                     Eigen::VectorXd rv(n);
