@@ -281,19 +281,30 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     r.perm.assign(pinv.indices().data(), pinv.indices().data() + n);  // new index -> old index
     r.iperm.assign(std::size_t(n), 0);
     for (int k = 0; k < n; ++k) r.iperm[std::size_t(r.perm[std::size_t(k)])] = k;
+    // The elimination tree, the column counts of L, and each row's reach through the tree in the topological order
+    // factorize eliminates it: for each entry of column k above the diagonal, in storage order, the path up to an
+    // already reached node, that path put before the ones found earlier.
     r.parent.assign(std::size_t(n), -1);
+    r.reachStart.assign(std::size_t(n) + 1, 0);
     std::vector<int> count(std::size_t(n), 0), flag(std::size_t(n), -1);
+    std::vector<int> path(static_cast<std::size_t>(n), 0), order(static_cast<std::size_t>(n), 0);
     for (int k = 0; k < n; ++k) {
         flag[std::size_t(k)] = k;
+        int top = n;
         for (Eigen::SparseMatrix<double>::InnerIterator it(a, r.perm[std::size_t(k)]); it; ++it) {
             int i = r.iperm[std::size_t(it.row())];
             if (i >= k) continue;
+            int len = 0;
             for (; flag[std::size_t(i)] != k; i = r.parent[std::size_t(i)]) {
                 if (r.parent[std::size_t(i)] == -1) r.parent[std::size_t(i)] = k;
                 ++count[std::size_t(i)];
                 flag[std::size_t(i)] = k;
+                path[std::size_t(len++)] = i;
             }
+            while (len > 0) order[std::size_t(--top)] = path[std::size_t(--len)];
         }
+        r.reach.insert(r.reach.end(), order.begin() + top, order.end());
+        r.reachStart[std::size_t(k) + 1] = int(r.reach.size());
     }
     // Where factorize reads column k (rows <= k) and row k (columns < k) of P A P^T in a's values.
     std::vector<int> position(std::size_t(a.nonZeros()));  // at's entry -> a's entry (same pattern)
@@ -326,33 +337,14 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     }
     r.colPtr.assign(std::size_t(n) + 1, 0);
     for (int k = 0; k < n; ++k) r.colPtr[std::size_t(k) + 1] = r.colPtr[std::size_t(k)] + count[std::size_t(k)];
-    // Each row's reach through the elimination tree, in the topological order factorize eliminates it (for each
-    // entry of column k above the diagonal, in storage order, the path up to an already reached node, that path
-    // put before the ones found earlier), and the rows of each column of L.
-    r.reachStart.assign(std::size_t(n) + 1, 0);
-    r.reach.reserve(std::size_t(r.colPtr[std::size_t(n)]));
+    // The rows of each column of L, in increasing order (row k enters the columns of its reach).
     r.lowerRow.assign(std::size_t(r.colPtr[std::size_t(n)]), 0);
-    std::vector<int> filled(static_cast<std::size_t>(n), 0), path(static_cast<std::size_t>(n), 0),
-        order(static_cast<std::size_t>(n), 0);
-    std::fill(flag.begin(), flag.end(), -1);
+    std::vector<int> filled(static_cast<std::size_t>(n), 0);
     for (int k = 0; k < n; ++k) {
-        int top = n;
-        flag[std::size_t(k)] = k;
-        for (int e = r.upperStart[std::size_t(k)]; e < r.upperStart[std::size_t(k) + 1]; ++e) {
-            int i = r.upperRow[std::size_t(e)];
-            int len = 0;
-            for (; flag[std::size_t(i)] != k; i = r.parent[std::size_t(i)]) {
-                path[std::size_t(len++)] = i;
-                flag[std::size_t(i)] = k;
-            }
-            while (len > 0) order[std::size_t(--top)] = path[std::size_t(--len)];
-        }
-        for (; top < n; ++top) {
-            const int i = order[std::size_t(top)];
-            r.reach.push_back(i);
+        for (int t = r.reachStart[std::size_t(k)]; t < r.reachStart[std::size_t(k) + 1]; ++t) {
+            const int i = r.reach[std::size_t(t)];
             r.lowerRow[std::size_t(r.colPtr[std::size_t(i)] + filled[std::size_t(i)]++)] = k;
         }
-        r.reachStart[std::size_t(k) + 1] = int(r.reach.size());
     }
     return out;
 }
