@@ -48,6 +48,7 @@
 
 #include <Eigen/SparseCore>
 #include <Eigen/SparseLU>
+#include <cstring>
 
 #include "body_space_solve.h"
 #include "interior_point_impl.h"
@@ -235,6 +236,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<Eigen::Triplet<double>> slipTriplets;
         detail::ColumnAssembly assembly;
         Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
+        // The values of the system `factor` holds (empty: none). A face kept from one iteration to the next (phases 0
+        // and 2 at the same proximal term) gives the same system to the bit; its factors are then reused as they are.
+        std::vector<double> factoredValues;
         std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
         detail::GmresWorkspace gmres;
         int iterations = 0;
@@ -449,12 +453,20 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 if (freeUnknown != analysedFree) {
                     factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;
+                    factoredValues.clear();
                 }
+                // The same pattern (the same free unknowns) with the same values, compared as bits (a -0.0 is not
+                // a 0.0 here): the factors held are K's.
+                const double* kv = K.valuePtr();
+                const bool factored = !factoredValues.empty() && factoredValues.size() == std::size_t(K.nonZeros()) &&
+                                      std::memcmp(factoredValues.data(), kv, factoredValues.size() * sizeof(double)) == 0;
                 // Without slipping contacts K's values are symmetric too: the L D L^T variant computes the same
                 // factors (the same operations on the same values, U = L^T) with a third less work.
-                if (factor.factorize(K, slipTriplets.empty())) {
+                const bool factorOk = factored || factor.factorize(K, slipTriplets.empty());
+                factoredValues.assign(kv, kv + (factorOk ? K.nonZeros() : 0));
+                if (factorOk) {
                     const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
-                    work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
+                    work += std::uint64_t(K.nonZeros()) + (factored ? 0 : 8 * nnzL);
                     Eigen::VectorXd rv(n);
                     for (int i = 0; i < n; ++i) rv[i] = i < ndof && locked[std::size_t(i)] ? 0.0 : rhs[std::size_t(i)];
                     stepFound = detail::gmresRight(K, factor, rv, sol, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL,
