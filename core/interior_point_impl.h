@@ -66,9 +66,11 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         return friction[std::size_t(c)] * pn + (i == 0 ? -pt : pt);
     };
     // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
-    // of freedom), only the values change.
+    // of freedom), only the values change. After the first iteration only the entries its L D L^T factorisation of
+    // symmetric values reads (those on and above the diagonal in its elimination order) are written; the others stay 0.
     std::vector<Eigen::Triplet<double>> kt;
     std::vector<int> kpos;
+    std::vector<std::uint8_t> kread;  // per entry of kt: does the factorisation read it
     Eigen::SparseMatrix<double> Kb;
     detail::ColumnAssembly kbAssembly;
     SymmetricPatternLu kbFactor;
@@ -264,6 +266,10 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                         if (locked[std::size_t(da + a)]) continue;
                         for (int bb = 0; bb < 3; ++bb) {
                             if (locked[std::size_t(db + bb)]) continue;
+                            if (analysed && !kread[entry]) {  // not read by the factorisation
+                                ++entry;
+                                continue;
+                            }
                             const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
                                              ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
                             put(da + a, db + bb, v);
@@ -278,7 +284,9 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 kbFactor.analyzePattern(Kb, cache);
                 analysed = true;
                 kpos.resize(kt.size());
+                kread.resize(kt.size());
                 for (std::size_t t = 0; t < kt.size(); ++t) {
+                    kread[t] = kbFactor.readsSymmetric(kt[t].row(), kt[t].col()) ? 1 : 0;
                     const int col = kt[t].col();
                     const int* rows = Kb.innerIndexPtr();
                     const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],

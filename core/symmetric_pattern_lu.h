@@ -223,6 +223,14 @@ public:
         return true;
     }
 
+    /// Whether factorize(a, true) reads a's entry (row, col) of the analysed pattern: it reads only those on and above
+    /// the diagonal of P A P^T, so a caller promising symmetric values need not compute the others.
+    /// (A pattern factorize refuses has no order: every entry counts as read.)
+    bool readsSymmetric(int row, int col) const {
+        if (!an_ || !an_->symmetric) return true;
+        return an_->iperm[std::size_t(row)] <= an_->iperm[std::size_t(col)];
+    }
+
     /// x with A x = b, from the last factorisation.
     Eigen::VectorXd solve(const Eigen::VectorXd& b) const {
         const SymmetricPatternAnalysis& an = *an_;

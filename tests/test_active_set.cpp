@@ -600,3 +600,49 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
 }
 
 }  // TEST_SUITE
+
+TEST_CASE("symmetric-pattern LU: with symmetric values it reads one entry of each mirrored pair, as readsSymmetric says") {
+    // A body-space matrix M + J^T H J with symmetric values: 10 bodies in a chain, each pair coupled by a 3 x 3 block.
+    const int bodies = 10, n = 3 * bodies;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int k = 0; k < n; ++k) entries.emplace_back(k, k, 4.0 + 0.1 * k);
+    for (int b = 0; b + 1 < bodies; ++b) {
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 3; ++c) {
+                const double v = 0.3 * std::cos(1.3 * b + 0.7 * r + 0.4 * c);
+                entries.emplace_back(3 * b + r, 3 * (b + 1) + c, v);
+                entries.emplace_back(3 * (b + 1) + c, 3 * b + r, v);
+            }
+        }
+    }
+    Eigen::SparseMatrix<double> s(n, n);
+    s.setFromTriplets(entries.begin(), entries.end());
+    SymmetricPatternLu lu;
+    lu.analyzePattern(s);
+    // Exactly the diagonal and one entry of each off-diagonal pair are read.
+    Eigen::SparseMatrix<double> garbled = s;
+    int read = 0;
+    for (int j = 0; j < n; ++j) {
+        for (Eigen::SparseMatrix<double>::InnerIterator it(garbled, j); it; ++it) {
+            const bool r = lu.readsSymmetric(int(it.row()), j);
+            CHECK(r != (int(it.row()) != j && lu.readsSymmetric(j, int(it.row()))));
+            if (r) {
+                ++read;
+            } else {
+                it.valueRef() = 1e6;  // not read: any value gives the same factors
+            }
+        }
+    }
+    CHECK(read == (int(s.nonZeros()) + n) / 2);
+    Eigen::VectorXd b(n);
+    for (int i = 0; i < n; ++i) b[i] = std::sin(0.3 * i + 0.2);
+    REQUIRE(lu.factorize(s, true));
+    const Eigen::VectorXd x = lu.solve(b);
+    CHECK((s * x - b).norm() <= 1e-14 * b.norm() * 10.0);
+    REQUIRE(lu.factorize(garbled, true));
+    const Eigen::VectorXd y = lu.solve(b);
+    CHECK(std::memcmp(x.data(), y.data(), sizeof(double) * std::size_t(n)) == 0);
+    // The unsymmetric variant reads every entry: the garbled matrix is another system there.
+    REQUIRE(lu.factorize(garbled, false));
+    CHECK((s * lu.solve(b) - b).norm() > 1e-3 * b.norm());
+}
