@@ -463,7 +463,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 // Without slipping contacts K's values are symmetric too: the L D L^T variant computes the same
                 // factors (the same operations on the same values, U = L^T) with a third less work.
                 const bool factorOk = factored || factor.factorize(K, slipTriplets.empty());
-                factoredValues.assign(kv, kv + (factorOk ? K.nonZeros() : 0));
+                if (!factored) factoredValues.assign(kv, kv + (factorOk ? K.nonZeros() : 0));
                 if (factorOk) {
                     const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
                     work += std::uint64_t(K.nonZeros()) + (factored ? 0 : 8 * nnzL);
