@@ -233,6 +233,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
         SymmetricPatternLu factor;
         std::vector<int> analysedFree;  // the free unknowns factor's ordering was computed for
+        std::vector<int> systemPos;     // each free unknown's place among the system's unknowns
         std::vector<Eigen::Triplet<double>> slipTriplets;
         detail::ColumnAssembly assembly;
         Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
@@ -248,6 +249,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
         // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
         constexpr int kPolish = 8, kHalvings = 3;
+        // An analysed pattern is reused for a subset of its unknowns with at most one in this many more (see below).
+        constexpr std::size_t kPatternSlack = 16;
         // The interior-point restart is tried once, after phase 0, when phase 0's best residual is above this many tolerances.
         constexpr double kInteriorGate = 10.0;
         // ... and tried before phase 0 when the warm start's residual is above this many.
@@ -422,11 +425,35 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     triplets.emplace_back(d + a, d + a, moves ? 1.0 / inv[a] : 1.0);
                 }
             }
-            for (int f = 0; f < nf; ++f) {
-                const int unknown = freeUnknown[std::size_t(f)];
+            for (int f = 0; f < nf; ++f) rhs[std::size_t(ndof + f)] = -ue[std::size_t(freeUnknown[std::size_t(f)])];
+            // The system's unknowns: the free ones or, in the refining phases (0 and 2) with
+            // ActiveSetOptions::reuseSupersetPattern, the unknowns of the pattern analysed last when the free ones are
+            // a subset of those with at most one in kPatternSlack more. An unknown of the pattern that is not free
+            // keeps its entries as stored zeros and a diagonal of its own: its row reads q = 0, and the analysis
+            // (ordering, elimination tree) is reused. A refining iteration on a settled pile at the tolerance's floor
+            // releases a few contacts; each would otherwise need a new analysis, which on a large island costs about
+            // as much as the factorisation. (Phase 1's oscillating states keep the exact pattern: there the answer
+            // reached depends on the rounding of every step, and a pile that ends on a poorer face pays for it on
+            // every later step.)
+            const bool superset = freeUnknown == analysedFree ||
+                                  (settings.reuseSupersetPattern && polish && !analysedFree.empty() &&
+                                   analysedFree.size() >= freeUnknown.size() &&
+                                   (analysedFree.size() - freeUnknown.size()) * kPatternSlack <= analysedFree.size() &&
+                                   std::includes(analysedFree.begin(), analysedFree.end(), freeUnknown.begin(),
+                                                 freeUnknown.end()));
+            const std::vector<int>& systemUnknown = superset ? analysedFree : freeUnknown;
+            const int ns = int(systemUnknown.size());
+            systemPos.resize(std::size_t(nf));
+            for (int f = 0, j = 0; f < nf; ++f, ++j) {
+                while (systemUnknown[std::size_t(j)] != freeUnknown[std::size_t(f)]) ++j;
+                systemPos[std::size_t(f)] = j;
+            }
+            for (int f = 0; f < ns; ++f) {
+                const int unknown = systemUnknown[std::size_t(f)];
                 const int c = unknown / 2, r = unknown % 2;
                 const int col = ndof + f;
-                const double slip = slipFactor(c, r);
+                const bool free = freeIndex[std::size_t(unknown)] >= 0;
+                const double slip = free ? slipFactor(c, r) : 0.0;
                 const detail::JacobianRow<D>& row = rowAt(c, r);
                 const detail::JacobianRow<D>& trow = rowAt(c, 1);
                 for (int s = 0; s < 2; ++s) {
@@ -436,24 +463,26 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     const double t[3] = {trow.lin[s].x, trow.lin[s].y, trow.ang[s]};
                     for (int a = 0; a < 3; ++a) {
                         if (locked[std::size_t(d + a)]) continue;
-                        triplets.emplace_back(col, d + a, j[a]);
-                        triplets.emplace_back(d + a, col, j[a]);
+                        const double v = free ? j[a] : 0.0;
+                        triplets.emplace_back(col, d + a, v);
+                        triplets.emplace_back(d + a, col, v);
                         if (slip != 0.0) slipTriplets.emplace_back(d + a, col, slip * t[a]);
                     }
                 }
-                triplets.emplace_back(col, col, -epsRel * diag[std::size_t(unknown)]);
-                rhs[std::size_t(col)] = -ue[std::size_t(unknown)];
+                const double g = diag[std::size_t(unknown)];
+                triplets.emplace_back(col, col, free || g > 0.0 ? -epsRel * g : -1.0);
             }
             Eigen::VectorXd sol;
             bool stepFound = false;
             {
                 triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
                 // Duplicates (a body twice in a row, a slipping contact's share) are summed.
-                detail::assembleColumns(n, triplets, K, assembly);
-                if (freeUnknown != analysedFree) {
+                detail::assembleColumns(ndof + ns, triplets, K, assembly);
+                if (!superset) {
                     factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;
                     factoredValues.clear();
+                    ++out.patternAnalyses;
                 }
                 // The same pattern (the same free unknowns) with the same values, compared as bits (a -0.0 is not
                 // a 0.0 here): the factors held are K's.
@@ -464,14 +493,21 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 // factors (the same operations on the same values, U = L^T) with a third less work.
                 const bool factorOk = factored || factor.factorize(K, slipTriplets.empty());
                 if (!factored) factoredValues.assign(kv, kv + (factorOk ? K.nonZeros() : 0));
+                if (!factored && ns > nf) ++out.supersetFactorizations;
                 if (factorOk) {
                     const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
                     work += std::uint64_t(K.nonZeros()) + (factored ? 0 : 8 * nnzL);
-                    Eigen::VectorXd rv(n);
-                    for (int i = 0; i < n; ++i) rv[i] = i < ndof && locked[std::size_t(i)] ? 0.0 : rhs[std::size_t(i)];
-                    stepFound = detail::gmresRight(K, factor, rv, sol, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL,
+                    Eigen::VectorXd rv = Eigen::VectorXd::Zero(ndof + ns);
+                    for (int i = 0; i < ndof; ++i) rv[i] = locked[std::size_t(i)] ? 0.0 : rhs[std::size_t(i)];
+                    for (int f = 0; f < nf; ++f) rv[ndof + systemPos[std::size_t(f)]] = rhs[std::size_t(ndof + f)];
+                    Eigen::VectorXd ss;
+                    stepFound = detail::gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL,
                                                    work);
-                    for (int i = ndof; i < n && stepFound; ++i) sol[i] = -sol[i];
+                    if (stepFound) {
+                        sol.resize(n);
+                        for (int i = 0; i < ndof; ++i) sol[i] = ss[i];
+                        for (int f = 0; f < nf; ++f) sol[ndof + f] = -ss[ndof + systemPos[std::size_t(f)]];
+                    }
                 }
             }
             if (!stepFound) {

@@ -101,6 +101,10 @@ struct Resolution {
     bool activeSet = false;        ///< the answer came from the active-set path (resolveActiveSet)
     bool interiorPoint = false;    ///< resolveActiveSet restarted from the interior-point answer (ActiveSetOptions)
     bool warmFace = false;         ///< active-set answers: certified on the face of the warm start (its phase 0)
+    /// Active-set path: the system patterns it analysed (an ordering and elimination tree each; found in the
+    /// pattern cache or computed), and the factorisations it ran on a larger analysed pattern instead
+    /// (ActiveSetOptions::reuseSupersetPattern).
+    int patternAnalyses = 0, supersetFactorizations = 0;
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
     std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve
@@ -180,6 +184,11 @@ struct ActiveSetOptions {
     /// (u_t of p_t's sign beyond half a tolerance, which the LCP forbids) sticks in the next step instead of
     /// slipping on.
     bool stickWrongWaySlip = false;
+    /// On a kept face (phases 0 and 2), factor the system of a subset of the unknowns last analysed (at most 1/16
+    /// fewer) on that analysed pattern, with the dropped unknowns' entries stored as zeros, instead of analysing the
+    /// subset's own pattern. Same step up to rounding; saves the analysis (ordering, elimination tree), which on a
+    /// large island costs about as much as the factorisation.
+    bool reuseSupersetPattern = false;
 };
 
 /// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started

@@ -229,6 +229,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (bigIsland) {
                 fastOptions.floorExit = kFloorExit;
                 fastOptions.stickWrongWaySlip = true;
+                fastOptions.reuseSupersetPattern = true;
             }
             // With a budget the path stops at what is left of the island's grant, as Lemke does.
             if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;

@@ -290,6 +290,57 @@ TEST_CASE("active-set path: with stickWrongWaySlip a rim contact sliding along i
     CHECK(p.work > 2 * r.work);
 }
 
+TEST_CASE("active-set path: with reuseSupersetPattern a kept face that releases contacts keeps its analysed pattern") {
+    // A resting 8 x 4 wall whose top right box slides away from its left neighbour at 0.01 m/s (its ground
+    // friction stops it within the step), warm-started from the resting answer with a small push (1e-3 N s) on
+    // the two points between those two boxes. On the warm start's face that pair would have to pull: the face's step
+    // releases it, and the next face is a subset of the first. With reuseSupersetPattern that face is factored on
+    // the first one's analysed pattern (the released unknowns stored as zeros); the answer is the same up to rounding.
+    constexpr int columns = 8, rows = 4;
+    Wall wall = restingWall(columns, rows, 0.6);
+    const int slider = 1 + (rows - 1) * columns + columns - 1;
+    wall.bodies[std::size_t(slider)].velocity.x = 0.01;
+    ResolverOptions options;
+    options.frictionDirections = 2;
+    std::vector<double> warm;
+    for (const Contact2& c : wall.contacts) {
+        const int row = (c.a - 1) / columns;                                // the upper (or right) body's row
+        const double weight = double(rows - row) * (10.0 / 60.0) / 2.0;     // of its column, on each bottom point
+        const double pn = c.normal.y > 0.5 ? weight : c.a == slider ? 1e-3 : 0.0;
+        warm.push_back(pn);
+        warm.push_back(0.0);
+        warm.push_back(0.0);
+    }
+    ActiveSetOptions reuse;
+    reuse.interiorPoint = false;
+    reuse.reuseSupersetPattern = true;
+    ActiveSetOptions exact;
+    exact.interiorPoint = false;
+    std::vector<Body2> a = wall.bodies, b = wall.bodies;
+    const Resolution r = resolveActiveSet(a, wall.contacts, warm, options, reuse);
+    const Resolution e = resolveActiveSet(b, wall.contacts, warm, options, exact);
+    MESSAGE("with reuse: " << r.patternAnalyses << " analyses, " << r.supersetFactorizations
+                           << " factorisations on a larger pattern; without: " << e.patternAnalyses << " analyses");
+    REQUIRE(r.status == LcpStatus::solved);
+    REQUIRE(e.status == LcpStatus::solved);
+    CHECK(r.warmFace);
+    CHECK(e.warmFace);
+    CHECK(r.supersetFactorizations >= 1);
+    CHECK(e.supersetFactorizations == 0);
+    CHECK(r.patternAnalyses < e.patternAnalyses);
+    CHECK(assembledResidual(wall.bodies, wall.contacts, r, options) <= options.lcp.residualTolerance + 1e-13);
+    for (std::size_t c = 0; c < wall.contacts.size(); ++c) {
+        CHECK(r.impulses[c] == doctest::Approx(e.impulses[c]).epsilon(1e-9).scale(1.0));
+        if (wall.contacts[c].a == slider && wall.contacts[c].normal.x > 0.5) CHECK(r.impulses[c] == 0.0);  // released
+    }
+    for (std::size_t k = 1; k < a.size(); ++k) {
+        CHECK(a[k].velocity.x == doctest::Approx(b[k].velocity.x).epsilon(1e-9).scale(1.0));
+        CHECK(a[k].velocity.y == doctest::Approx(b[k].velocity.y).epsilon(1e-9).scale(1.0));
+        CHECK(std::fabs(a[k].velocity.x) <= 1e-8);  // the slider stopped by its ground friction
+        CHECK(std::fabs(a[k].velocity.y) <= 1e-8);  // the wall at rest
+    }
+}
+
 TEST_CASE("active-set path: with floorExit a warm face that ends just above the tolerance is a near miss there") {
     // A 16 x 16 resting wall warm-started from its own answer, certified against a tolerance at the floor of
     // rounding (3e-16 scaled): the warm start's face ends a little above it. With floorExit (the world sets it on
