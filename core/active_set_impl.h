@@ -435,13 +435,13 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             // as much as the factorisation. (Phase 1's oscillating states keep the exact pattern: there the answer
             // reached depends on the rounding of every step, and a pile that ends on a poorer face pays for it on
             // every later step.)
-            const bool superset = freeUnknown == analysedFree ||
+            const bool onAnalysed = freeUnknown == analysedFree ||
                                   (settings.reuseSupersetPattern && polish && !analysedFree.empty() &&
                                    analysedFree.size() >= freeUnknown.size() &&
                                    (analysedFree.size() - freeUnknown.size()) * kPatternSlack <= analysedFree.size() &&
                                    std::includes(analysedFree.begin(), analysedFree.end(), freeUnknown.begin(),
                                                  freeUnknown.end()));
-            const std::vector<int>& systemUnknown = superset ? analysedFree : freeUnknown;
+            const std::vector<int>& systemUnknown = onAnalysed ? analysedFree : freeUnknown;
             const int ns = int(systemUnknown.size());
             systemPos.resize(std::size_t(nf));
             for (int f = 0, j = 0; f < nf; ++f, ++j) {
@@ -452,8 +452,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 const int unknown = systemUnknown[std::size_t(f)];
                 const int c = unknown / 2, r = unknown % 2;
                 const int col = ndof + f;
-                const bool free = freeIndex[std::size_t(unknown)] >= 0;
-                const double slip = free ? slipFactor(c, r) : 0.0;
+                const bool isFree = freeIndex[std::size_t(unknown)] >= 0;
+                const double slip = isFree ? slipFactor(c, r) : 0.0;
                 const detail::JacobianRow<D>& row = rowAt(c, r);
                 const detail::JacobianRow<D>& trow = rowAt(c, 1);
                 for (int s = 0; s < 2; ++s) {
@@ -463,14 +463,14 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     const double t[3] = {trow.lin[s].x, trow.lin[s].y, trow.ang[s]};
                     for (int a = 0; a < 3; ++a) {
                         if (locked[std::size_t(d + a)]) continue;
-                        const double v = free ? j[a] : 0.0;
+                        const double v = isFree ? j[a] : 0.0;
                         triplets.emplace_back(col, d + a, v);
                         triplets.emplace_back(d + a, col, v);
                         if (slip != 0.0) slipTriplets.emplace_back(d + a, col, slip * t[a]);
                     }
                 }
                 const double g = diag[std::size_t(unknown)];
-                triplets.emplace_back(col, col, free || g > 0.0 ? -epsRel * g : -1.0);
+                triplets.emplace_back(col, col, isFree || g > 0.0 ? -epsRel * g : -1.0);
             }
             Eigen::VectorXd sol;
             bool stepFound = false;
@@ -478,13 +478,13 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
                 // Duplicates (a body twice in a row, a slipping contact's share) are summed.
                 detail::assembleColumns(ndof + ns, triplets, K, assembly);
-                if (!superset) {
+                if (!onAnalysed) {
                     factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
                     analysedFree = freeUnknown;
                     factoredValues.clear();
                     ++out.patternAnalyses;
                 }
-                // The same pattern (the same free unknowns) with the same values, compared as bits (a -0.0 is not
+                // The same pattern (the same system unknowns) with the same values, compared as bits (a -0.0 is not
                 // a 0.0 here): the factors held are K's.
                 const double* kv = K.valuePtr();
                 const bool factored = !factoredValues.empty() && factoredValues.size() == std::size_t(K.nonZeros()) &&
