@@ -14,8 +14,9 @@
 // active-set path runs it as GMRES's preconditioner, with a pivoting LU behind it).
 //
 // The numeric phase is the up-looking one of a sparse LDL^T (row k of L and column k of U from sparse triangular solves
-// over the elimination tree), done twice per row with the same pattern. Every loop runs in index order, so the factors
-// are the same bits on every build.
+// over the elimination tree), done twice per row with the same pattern: L's and U's entries are stored interleaved,
+// and one two-lane multiply and subtract updates both (each lane is the scalar operation, so the bits are the same
+// as one at a time). Every loop runs in index order, so the factors are the same bits on every build.
 #pragma once
 
 #include <Eigen/OrderingMethods>
@@ -25,6 +26,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -138,6 +140,10 @@ private:
 };
 
 class SymmetricPatternLu {
+#if defined(__GNUC__) || defined(__clang__)
+    using Pair = double __attribute__((vector_size(16)));  // two doubles (GCC and Clang vector extension)
+#endif
+
 public:
     /// The ordering and the elimination tree of `a`'s pattern (square, column-major): found in `cache` when it holds
     /// the pattern, computed (and offered to it) otherwise. A pattern that is not symmetric is remembered as such,
@@ -151,8 +157,7 @@ public:
         }
         an_ = cache ? cache->analysisOf(a) : SymmetricPatternAnalysis::of(a);
         const std::size_t nnz = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
-        lx_.assign(nnz, 0.0);
-        ux_.assign(nnz, 0.0);
+        lu_.assign(2 * nnz, 0.0);
     }
 
     /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite. With `symmetricValues`
@@ -168,29 +173,32 @@ public:
         const int n = an.n;
         const double* value = a.valuePtr();
         d_.assign(std::size_t(n), 0.0);
-        y_.assign(std::size_t(n), 0.0);
-        z_.assign(std::size_t(n), 0.0);
+        yz_.assign(2 * std::size_t(n), 0.0);
         filled_.assign(std::size_t(n), 0);
         const int* lowerRow = an.lowerRow.data();
+        double* lu = lu_.data();
+        double* yz = yz_.data();
         for (int k = 0; k < n; ++k) {
             // Column k of P A P^T above the diagonal into y and row k left of it into z; their common pattern (the
-            // rows of L reached from it through the elimination tree) is an.reach in topological order.
+            // rows of L reached from it through the elimination tree) is an.reach in topological order. y and z
+            // are interleaved (yz[2 i], yz[2 i + 1]), as are L's and U's entries (lu[2 p], lu[2 p + 1]): the
+            // elimination of one column updates both with the same row indices.
             for (int e = an.upperStart[std::size_t(k)]; e < an.upperStart[std::size_t(k) + 1]; ++e)
-                y_[std::size_t(an.upperRow[std::size_t(e)])] += value[an.upperAt[std::size_t(e)]];
-            double dk = y_[std::size_t(k)];
-            y_[std::size_t(k)] = 0.0;
+                yz[2 * std::size_t(an.upperRow[std::size_t(e)])] += value[an.upperAt[std::size_t(e)]];
+            double dk = yz[2 * std::size_t(k)];
+            yz[2 * std::size_t(k)] = 0.0;
             const int r0 = an.reachStart[std::size_t(k)], r1 = an.reachStart[std::size_t(k) + 1];
             if (symmetricValues) {
                 for (int t = r0; t < r1; ++t) {
                     const int i = an.reach[std::size_t(t)];
-                    const double yi = y_[std::size_t(i)];
-                    y_[std::size_t(i)] = 0.0;
+                    const double yi = yz[2 * std::size_t(i)];
+                    yz[2 * std::size_t(i)] = 0.0;
                     const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
-                    for (int p = begin; p < end; ++p) y_[std::size_t(lowerRow[p])] -= lx_[std::size_t(p)] * yi;
+                    for (int p = begin; p < end; ++p) yz[2 * std::size_t(lowerRow[p])] -= lu[2 * std::size_t(p)] * yi;
                     const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
                     dk -= lki * yi;
-                    lx_[std::size_t(end)] = lki;
-                    ux_[std::size_t(end)] = lki;
+                    lu[2 * std::size_t(end)] = lki;
+                    lu[2 * std::size_t(end) + 1] = lki;
                     ++filled_[std::size_t(i)];
                 }
                 if (!(dk != 0.0) || !std::isfinite(dk)) return false;
@@ -198,23 +206,38 @@ public:
                 continue;
             }
             for (int e = an.lowerStart[std::size_t(k)]; e < an.lowerStart[std::size_t(k) + 1]; ++e) {
-                z_[std::size_t(an.lowerCol[std::size_t(e)])] += value[an.lowerAt[std::size_t(e)]];
+                yz[2 * std::size_t(an.lowerCol[std::size_t(e)]) + 1] += value[an.lowerAt[std::size_t(e)]];
             }
             for (int t = r0; t < r1; ++t) {
                 const int i = an.reach[std::size_t(t)];
-                const double yi = y_[std::size_t(i)], zi = z_[std::size_t(i)];
-                y_[std::size_t(i)] = 0.0;
-                z_[std::size_t(i)] = 0.0;
+                const double yi = yz[2 * std::size_t(i)], zi = yz[2 * std::size_t(i) + 1];
+                yz[2 * std::size_t(i)] = 0.0;
+                yz[2 * std::size_t(i) + 1] = 0.0;
                 const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
+                // Both updates as one two-lane operation: lane by lane the same multiplication and subtraction, so
+                // the same bits as the scalar form (no reduction, and -ffp-contract=off keeps them unfused).
+#if defined(__GNUC__) || defined(__clang__)
+                const Pair yzi = {yi, zi};
                 for (int p = begin; p < end; ++p) {
-                    y_[std::size_t(lowerRow[p])] -= lx_[std::size_t(p)] * yi;
-                    z_[std::size_t(lowerRow[p])] -= ux_[std::size_t(p)] * zi;
+                    double* target = yz + 2 * std::size_t(lowerRow[p]);
+                    Pair t, f;
+                    std::memcpy(&t, target, sizeof t);
+                    std::memcpy(&f, lu + 2 * std::size_t(p), sizeof f);
+                    t -= f * yzi;
+                    std::memcpy(target, &t, sizeof t);
                 }
+#else
+                for (int p = begin; p < end; ++p) {
+                    double* target = yz + 2 * std::size_t(lowerRow[p]);
+                    target[0] -= lu[2 * std::size_t(p)] * yi;
+                    target[1] -= lu[2 * std::size_t(p) + 1] * zi;
+                }
+#endif
                 const double lki = zi / d_[std::size_t(i)];  // L(k, i)
                 const double uik = yi / d_[std::size_t(i)];  // U(i, k)
                 dk -= lki * yi;
-                lx_[std::size_t(end)] = lki;
-                ux_[std::size_t(end)] = uik;
+                lu[2 * std::size_t(end)] = lki;
+                lu[2 * std::size_t(end) + 1] = uik;
                 ++filled_[std::size_t(i)];
             }
             if (!(dk != 0.0) || !std::isfinite(dk)) return false;
@@ -242,13 +265,13 @@ public:
             const double wj = w[std::size_t(j)];
             if (wj == 0.0) continue;
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                w[std::size_t(an.lowerRow[std::size_t(p)])] -= lx_[std::size_t(p)] * wj;
+                w[std::size_t(an.lowerRow[std::size_t(p)])] -= lu_[2 * std::size_t(p)] * wj;
         }
         for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
         for (int j = n - 1; j >= 0; --j) {  // U w'' = w'
             double s = w[std::size_t(j)];
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                s -= ux_[std::size_t(p)] * w[std::size_t(an.lowerRow[std::size_t(p)])];
+                s -= lu_[2 * std::size_t(p) + 1] * w[std::size_t(an.lowerRow[std::size_t(p)])];
             w[std::size_t(j)] = s;
         }
         Eigen::VectorXd x(n);
@@ -257,13 +280,13 @@ public:
     }
 
     /// Entries of L below its diagonal (U above it has as many).
-    std::size_t factorNonZeros() const { return lx_.size(); }
+    std::size_t factorNonZeros() const { return lu_.size() / 2; }
 
 private:
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
-    std::vector<double> lx_, ux_, d_;
+    std::vector<double> lu_, d_;  // L(row, j) and U(j, row) of column j's entry p at lu_[2 p], lu_[2 p + 1]
     std::vector<int> filled_;  // factorize's scratch
-    std::vector<double> y_, z_;
+    std::vector<double> yz_;
     mutable std::vector<double> work_;
 };
 
