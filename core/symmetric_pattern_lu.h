@@ -194,6 +194,7 @@ public:
                     const double yi = yz[2 * std::size_t(i)];
                     yz[2 * std::size_t(i)] = 0.0;
                     const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
+#pragma GCC unroll 4
                     for (int p = begin; p < end; ++p) yz[2 * std::size_t(lowerRow[p])] -= lu[2 * std::size_t(p)] * yi;
                     const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
                     dk -= lki * yi;
@@ -218,6 +219,7 @@ public:
                 // the same bits as the scalar form (no reduction, and -ffp-contract=off keeps them unfused).
 #if defined(__GNUC__) || defined(__clang__)
                 const Pair yzi = {yi, zi};
+#pragma GCC unroll 4
                 for (int p = begin; p < end; ++p) {
                     double* target = yz + 2 * std::size_t(lowerRow[p]);
                     Pair t, f;
