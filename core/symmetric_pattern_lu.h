@@ -16,7 +16,11 @@
 // The numeric phase is the up-looking one of a sparse LDL^T (row k of L and column k of U from sparse triangular solves
 // over the elimination tree), done twice per row with the same pattern: L's and U's entries are stored interleaved,
 // and one two-lane multiply and subtract updates both (each lane is the scalar operation, so the bits are the same
-// as one at a time). Every loop runs in index order, so the factors are the same bits on every build.
+// as one at a time). A run of up to four consecutive columns that chain in the elimination tree (each the only child
+// of the next, with the next's pattern plus that row; a body's degrees of freedom, mostly) and lie next to each other
+// in a row's reach is eliminated in one pass over its shared rows: each entry is loaded and stored once and gets its
+// subtractions in column order, as column by column. With symmetric values (L D L^T) only L is computed, in its own
+// array. Every loop runs in index order, so the factors are the same bits on every build.
 #pragma once
 
 #include <Eigen/OrderingMethods>
@@ -45,6 +49,11 @@ struct SymmetricPatternAnalysis {
     std::vector<int> lowerStart, lowerAt, lowerCol;  // row k of P A P^T left of the diagonal: a's entries
     std::vector<int> reachStart, reach;      // row k of L: its columns in the order factorize eliminates them
     std::vector<int> lowerRow;               // column j of L below the diagonal: its rows, from colPtr[j]
+    // Per entry of reach: at the first of a run of s consecutive columns i, i + 1, ..., i + s - 1 (s <= kMaxRun),
+    // each the only child of the next in the tree with the next's pattern plus that next row, s; 0 at the others.
+    // factorize eliminates such a run in one pass over its shared rows (the same operations in the same order).
+    std::vector<std::uint8_t> reachRun;
+    static constexpr int kMaxRun = 4;  // longer runs measured slower
 
     /// The analysis of `a` (square, compressed).
     static std::shared_ptr<const SymmetricPatternAnalysis> of(const Eigen::SparseMatrix<double>& a);
@@ -52,7 +61,8 @@ struct SymmetricPatternAnalysis {
         return sizeof(*this) + sizeof(int) * (perm.size() + iperm.size() + parent.size() + colPtr.size() +
                                               upperStart.size() + upperAt.size() + upperRow.size() +
                                               lowerStart.size() + lowerAt.size() + lowerCol.size() +
-                                              reachStart.size() + reach.size() + lowerRow.size());
+                                              reachStart.size() + reach.size() + lowerRow.size()) +
+               reachRun.size();
     }
 };
 
@@ -156,8 +166,8 @@ public:
             return;
         }
         an_ = cache ? cache->analysisOf(a) : SymmetricPatternAnalysis::of(a);
-        const std::size_t nnz = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
-        lu_.assign(2 * nnz, 0.0);
+        // The factors' arrays are sized by factorize; it writes every entry before reading it.
+        nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
     }
 
     /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite. With `symmetricValues`
@@ -173,8 +183,11 @@ public:
         const int n = an.n;
         const double* value = a.valuePtr();
         d_.assign(std::size_t(n), 0.0);
-        yz_.assign(2 * std::size_t(n), 0.0);
         filled_.assign(std::size_t(n), 0);
+        symmetric_ = symmetricValues;
+        if (symmetricValues) return factorizeSymmetric(value);
+        yz_.assign(2 * std::size_t(n), 0.0);
+        lu_.resize(2 * nnz_);
         const int* lowerRow = an.lowerRow.data();
         double* lu = lu_.data();
         double* yz = yz_.data();
@@ -188,29 +201,33 @@ public:
             double dk = yz[2 * std::size_t(k)];
             yz[2 * std::size_t(k)] = 0.0;
             const int r0 = an.reachStart[std::size_t(k)], r1 = an.reachStart[std::size_t(k) + 1];
-            if (symmetricValues) {
-                for (int t = r0; t < r1; ++t) {
-                    const int i = an.reach[std::size_t(t)];
-                    const double yi = yz[2 * std::size_t(i)];
-                    yz[2 * std::size_t(i)] = 0.0;
-                    const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
-#pragma GCC unroll 4
-                    for (int p = begin; p < end; ++p) yz[2 * std::size_t(lowerRow[p])] -= lu[2 * std::size_t(p)] * yi;
-                    const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
-                    dk -= lki * yi;
-                    lu[2 * std::size_t(end)] = lki;
-                    lu[2 * std::size_t(end) + 1] = lki;
-                    ++filled_[std::size_t(i)];
-                }
-                if (!(dk != 0.0) || !std::isfinite(dk)) return false;
-                d_[std::size_t(k)] = dk;
-                continue;
-            }
             for (int e = an.lowerStart[std::size_t(k)]; e < an.lowerStart[std::size_t(k) + 1]; ++e) {
                 yz[2 * std::size_t(an.lowerCol[std::size_t(e)]) + 1] += value[an.lowerAt[std::size_t(e)]];
             }
-            for (int t = r0; t < r1; ++t) {
+            for (int t = r0; t < r1;) {
                 const int i = an.reach[std::size_t(t)];
+#if defined(__GNUC__) || defined(__clang__)
+                if (const int run = an.reachRun[std::size_t(t)]; run > 1) {
+                    switch (run) {
+                        case 2: eliminateRunPair<2>(i, lowerRow, lu, yz); break;
+                        case 3: eliminateRunPair<3>(i, lowerRow, lu, yz); break;
+                        default: eliminateRunPair<4>(i, lowerRow, lu, yz); break;
+                    }
+                    for (int g = 0; g < run; ++g) {  // as one column at a time would, in column order
+                        const std::size_t ig = std::size_t(i + g);
+                        const double yi = runYZ_[std::size_t(g)][0], zi = runYZ_[std::size_t(g)][1];
+                        const double lki = zi / d_[ig], uik = yi / d_[ig];
+                        dk -= lki * yi;
+                        const std::size_t end = std::size_t(an.colPtr[ig] + filled_[ig]);
+                        lu[2 * end] = lki;
+                        lu[2 * end + 1] = uik;
+                        ++filled_[ig];
+                    }
+                    t += run;
+                    continue;
+                }
+#endif
+                ++t;
                 const double yi = yz[2 * std::size_t(i)], zi = yz[2 * std::size_t(i) + 1];
                 yz[2 * std::size_t(i)] = 0.0;
                 yz[2 * std::size_t(i) + 1] = 0.0;
@@ -263,17 +280,21 @@ public:
         std::vector<double>& w = work_;
         w.resize(std::size_t(n));
         for (int k = 0; k < n; ++k) w[std::size_t(k)] = b[an.perm[std::size_t(k)]];
+        // L's entry p at lower[stride p], U's at upper[stride p] (the same array after an L D L^T factorisation).
+        const double* lower = symmetric_ ? l_.data() : lu_.data();
+        const double* upper = symmetric_ ? l_.data() : lu_.data() + 1;
+        const std::size_t stride = symmetric_ ? 1 : 2;
         for (int j = 0; j < n; ++j) {  // L w' = w
             const double wj = w[std::size_t(j)];
             if (wj == 0.0) continue;
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                w[std::size_t(an.lowerRow[std::size_t(p)])] -= lu_[2 * std::size_t(p)] * wj;
+                w[std::size_t(an.lowerRow[std::size_t(p)])] -= lower[stride * std::size_t(p)] * wj;
         }
         for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
         for (int j = n - 1; j >= 0; --j) {  // U w'' = w'
             double s = w[std::size_t(j)];
             for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
-                s -= lu_[2 * std::size_t(p) + 1] * w[std::size_t(an.lowerRow[std::size_t(p)])];
+                s -= upper[stride * std::size_t(p)] * w[std::size_t(an.lowerRow[std::size_t(p)])];
             w[std::size_t(j)] = s;
         }
         Eigen::VectorXd x(n);
@@ -282,13 +303,133 @@ public:
     }
 
     /// Entries of L below its diagonal (U above it has as many).
-    std::size_t factorNonZeros() const { return lu_.size() / 2; }
+    std::size_t factorNonZeros() const { return nnz_; }
 
 private:
+    // The L D L^T form of factorize: L's entries in their own array (l_[p]) and one running row (y_), so the
+    // elimination's loads are consecutive; the operations are those of the L D U form with y = z.
+    bool factorizeSymmetric(const double* value) {
+        const SymmetricPatternAnalysis& an = *an_;
+        const int n = an.n;
+        const int* lowerRow = an.lowerRow.data();
+        l_.resize(nnz_);
+        y_.assign(std::size_t(n), 0.0);
+        double* l = l_.data();
+        double* y = y_.data();
+        for (int k = 0; k < n; ++k) {
+            for (int e = an.upperStart[std::size_t(k)]; e < an.upperStart[std::size_t(k) + 1]; ++e)
+                y[an.upperRow[std::size_t(e)]] += value[an.upperAt[std::size_t(e)]];
+            double dk = y[k];
+            y[k] = 0.0;
+            for (int t = an.reachStart[std::size_t(k)]; t < an.reachStart[std::size_t(k) + 1];) {
+                const int i = an.reach[std::size_t(t)];
+                const int run = an.reachRun[std::size_t(t)];
+                t += run;
+                if (run == 1) {
+                    const double yi = y[i];
+                    y[i] = 0.0;
+                    const int begin = an.colPtr[std::size_t(i)], end = begin + filled_[std::size_t(i)];
+#pragma GCC unroll 4
+                    for (int p = begin; p < end; ++p) y[lowerRow[p]] -= l[p] * yi;
+                    const double lki = yi / d_[std::size_t(i)];  // L(k, i) = U(i, k)
+                    dk -= lki * yi;
+                    l[end] = lki;
+                    ++filled_[std::size_t(i)];
+                    continue;
+                }
+                switch (run) {
+                    case 2: eliminateRun<2>(i, lowerRow, l, y); break;
+                    case 3: eliminateRun<3>(i, lowerRow, l, y); break;
+                    default: eliminateRun<4>(i, lowerRow, l, y); break;
+                }
+                for (int g = 0; g < run; ++g) {  // L(k, i + g) in column order, as one column at a time would
+                    const std::size_t ig = std::size_t(i + g);
+                    const double lki = runY_[std::size_t(g)] / d_[ig];
+                    dk -= lki * runY_[std::size_t(g)];
+                    l[an.colPtr[ig] + filled_[ig]] = lki;
+                    ++filled_[ig];
+                }
+            }
+            if (!(dk != 0.0) || !std::isfinite(dk)) return false;
+            d_[std::size_t(k)] = dk;
+        }
+        return true;
+    }
+
+#if defined(__GNUC__) || defined(__clang__)
+    // eliminateRun's two-lane form for the L D U branch: L's and U's entries together, y and z together.
+    template <int S>
+    void eliminateRunPair(int i, const int* lowerRow, const double* lu, double* yz) {
+        const SymmetricPatternAnalysis& an = *an_;
+        Pair yzv[S];
+        const double* col[S];
+        auto load = [](const double* at) {
+            Pair v;
+            std::memcpy(&v, at, sizeof v);
+            return v;
+        };
+        for (int g = 0; g < S; ++g) {
+            const double* lg = lu + 2 * std::size_t(an.colPtr[std::size_t(i + g)]);
+            yzv[g] = load(yz + 2 * std::size_t(i + g));
+            yz[2 * std::size_t(i + g)] = 0.0;
+            yz[2 * std::size_t(i + g) + 1] = 0.0;
+            for (int h = g + 1; h < S; ++h) {
+                const Pair v = load(yz + 2 * std::size_t(i + h)) - load(lg + 2 * (h - g - 1)) * yzv[g];
+                std::memcpy(yz + 2 * std::size_t(i + h), &v, sizeof v);
+            }
+            col[g] = lg + 2 * (S - 1 - g);
+        }
+        const int m = filled_[std::size_t(i + S - 1)];
+        const int* rows = lowerRow + an.colPtr[std::size_t(i + S - 1)];
+        for (int q = 0; q < m; ++q) {
+            double* target = yz + 2 * std::size_t(rows[q]);
+            Pair v = load(target);
+#pragma GCC unroll 4
+            for (int g = 0; g < S; ++g) v -= load(col[g] + 2 * q) * yzv[g];
+            std::memcpy(target, &v, sizeof v);
+        }
+        for (int g = 0; g < S; ++g) runYZ_[std::size_t(g)] = yzv[g];
+    }
+#endif
+
+    // The elimination of the run of S chained columns i, ..., i + S - 1 from the running row y, leaving their y
+    // entries in runY_. Column i + g's filled entries are rows i + g + 1, ..., i + S - 1 followed by the m rows
+    // column i + S - 1 has filled; each y entry gets its subtractions in column order, as one column at a time.
+    template <int S>
+    void eliminateRun(int i, const int* lowerRow, const double* l, double* y) {
+        const SymmetricPatternAnalysis& an = *an_;
+        double yv[S];
+        const double* col[S];
+        for (int g = 0; g < S; ++g) {
+            const double* lg = l + an.colPtr[std::size_t(i + g)];
+            yv[g] = y[i + g];
+            y[i + g] = 0.0;
+            for (int h = g + 1; h < S; ++h) y[i + h] -= lg[h - g - 1] * yv[g];
+            col[g] = lg + (S - 1 - g);
+        }
+        const int last = an.colPtr[std::size_t(i + S - 1)];
+        const int m = filled_[std::size_t(i + S - 1)];
+        const int* rows = lowerRow + last;
+        for (int q = 0; q < m; ++q) {
+            double v = y[rows[q]];
+#pragma GCC unroll 4
+            for (int g = 0; g < S; ++g) v -= col[g][q] * yv[g];
+            y[rows[q]] = v;
+        }
+        for (int g = 0; g < S; ++g) runY_[std::size_t(g)] = yv[g];
+    }
+
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
     std::vector<double> lu_, d_;  // L(row, j) and U(j, row) of column j's entry p at lu_[2 p], lu_[2 p + 1]
+    std::vector<double> l_;       // L(row, j) at l_[p] after a factorisation of symmetric values (symmetric_)
+    std::size_t nnz_ = 0;         // entries of L below its diagonal
+    bool symmetric_ = false;
     std::vector<int> filled_;  // factorize's scratch
-    std::vector<double> yz_;
+    std::vector<double> yz_, y_;
+    double runY_[SymmetricPatternAnalysis::kMaxRun] = {};
+#if defined(__GNUC__) || defined(__clang__)
+    Pair runYZ_[SymmetricPatternAnalysis::kMaxRun] = {};
+#endif
     mutable std::vector<double> work_;
 };
 
@@ -377,6 +518,24 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
         for (int t = r.reachStart[std::size_t(k)]; t < r.reachStart[std::size_t(k) + 1]; ++t) {
             const int i = r.reach[std::size_t(t)];
             r.lowerRow[std::size_t(r.colPtr[std::size_t(i)] + filled[std::size_t(i)]++)] = k;
+        }
+    }
+    // Column j chains into j + 1 when its pattern is j + 1's plus row j + 1 itself: then any row that reaches one
+    // reaches both, and where the two are next to each other in a reach their entries can be eliminated together.
+    std::vector<std::uint8_t> chain(std::size_t(n), 0);
+    for (int j = 0; j + 1 < n; ++j)
+        chain[std::size_t(j)] =
+            r.parent[std::size_t(j)] == j + 1 && count[std::size_t(j)] == count[std::size_t(j) + 1] + 1;
+    r.reachRun.assign(r.reach.size(), 0);
+    for (int k = 0; k < n; ++k) {
+        const int end = r.reachStart[std::size_t(k) + 1];
+        for (int t = r.reachStart[std::size_t(k)]; t < end;) {
+            int s = 1;
+            while (s < kMaxRun && t + s < end && chain[std::size_t(r.reach[std::size_t(t + s - 1)])] &&
+                   r.reach[std::size_t(t + s)] == r.reach[std::size_t(t + s - 1)] + 1)
+                ++s;
+            r.reachRun[std::size_t(t)] = std::uint8_t(s);
+            t += s;
         }
     }
     return out;

@@ -652,95 +652,102 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
 
 }  // TEST_SUITE
 
-TEST_CASE("symmetric-pattern LU: the paired elimination gives the bits of one entry at a time") {
-    // An unsymmetric-valued system on a symmetric pattern (a 2D grid of 3-dof bodies with contact-like rows between
-    // neighbours, every third row carrying a slip share), factored by SymmetricPatternLu and by the textbook
-    // up-looking L D U below, written one scalar operation at a time in the same order over the same analysis.
-    const int side = 6, bodies = side * side, nb = 3 * bodies;
-    std::vector<Eigen::Triplet<double>> entries;
-    for (int k = 0; k < nb; ++k) entries.emplace_back(k, k, 1.0 + 0.25 * (k % 5));
-    int col = nb;
-    for (int y = 0; y < side; ++y) {
-        for (int x = 0; x < side; ++x) {
-            for (int dir = 0; dir < 2; ++dir) {
-                const int nx = x + (dir == 0 ? 1 : 0), ny = y + (dir == 1 ? 1 : 0);
-                if (nx >= side || ny >= side) continue;
-                const int ends[2] = {y * side + x, ny * side + nx};
-                for (int s = 0; s < 2; ++s) {
-                    for (int c = 0; c < 3; ++c) {
-                        const int d = 3 * ends[s] + c;
-                        const double j = (s == 0 ? -1.0 : 1.0) * (0.4 + 0.1 * c + 0.01 * (col % 7));
-                        entries.emplace_back(col, d, j);
-                        entries.emplace_back(d, col, j + (col % 3 == 0 ? 0.3 * std::cos(0.5 * c + col) : 0.0));
+TEST_CASE("symmetric-pattern LU: the paired and run-wise eliminations give the bits of one entry at a time") {
+    // A system on a symmetric pattern (a 2D grid of 3-dof bodies with contact-like rows between neighbours), factored
+    // by SymmetricPatternLu and by the textbook up-looking L D U below, written one scalar operation at a time in the
+    // same order over the same analysis: with unsymmetric values (every third row carrying a slip share) through
+    // the two-lane L D U branch, and with symmetric values through the L D L^T branch. Chained columns (a body's
+    // degrees of freedom) are eliminated in runs by both branches.
+    for (const bool symmetricValues : {false, true}) {
+        CAPTURE(symmetricValues);
+        const int side = 6, bodies = side * side, nb = 3 * bodies;
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int k = 0; k < nb; ++k) entries.emplace_back(k, k, 1.0 + 0.25 * (k % 5));
+        int col = nb;
+        for (int y = 0; y < side; ++y) {
+            for (int x = 0; x < side; ++x) {
+                for (int dir = 0; dir < 2; ++dir) {
+                    const int nx = x + (dir == 0 ? 1 : 0), ny = y + (dir == 1 ? 1 : 0);
+                    if (nx >= side || ny >= side) continue;
+                    const int ends[2] = {y * side + x, ny * side + nx};
+                    for (int s = 0; s < 2; ++s) {
+                        for (int c = 0; c < 3; ++c) {
+                            const int d = 3 * ends[s] + c;
+                            const double j = (s == 0 ? -1.0 : 1.0) * (0.4 + 0.1 * c + 0.01 * (col % 7));
+                            entries.emplace_back(col, d, j);
+                            const bool slip = !symmetricValues && col % 3 == 0;
+                            entries.emplace_back(d, col, j + (slip ? 0.3 * std::cos(0.5 * c + col) : 0.0));
+                        }
                     }
+                    entries.emplace_back(col, col, -1e-6 * (1.0 + 0.1 * (col % 4)));
+                    ++col;
                 }
-                entries.emplace_back(col, col, -1e-6 * (1.0 + 0.1 * (col % 4)));
-                ++col;
             }
         }
-    }
-    const int n = col;
-    Eigen::SparseMatrix<double> a(n, n);
-    a.setFromTriplets(entries.begin(), entries.end());
-    a.makeCompressed();
-    Eigen::VectorXd b(n);
-    for (int i = 0; i < n; ++i) b[i] = std::sin(0.37 * i + 0.1);
-    SymmetricPatternLu lu;
-    lu.analyzePattern(a);
-    REQUIRE(lu.factorize(a));
-    const Eigen::VectorXd x = lu.solve(b);
-    CHECK((a * x - b).norm() <= 1e-10 * b.norm());
+        const int n = col;
+        Eigen::SparseMatrix<double> a(n, n);
+        a.setFromTriplets(entries.begin(), entries.end());
+        a.makeCompressed();
+        Eigen::VectorXd b(n);
+        for (int i = 0; i < n; ++i) b[i] = std::sin(0.37 * i + 0.1);
+        SymmetricPatternLu lu;
+        lu.analyzePattern(a);
+        REQUIRE(lu.factorize(a, symmetricValues));
+        const Eigen::VectorXd x = lu.solve(b);
+        CHECK((a * x - b).norm() <= 1e-10 * b.norm());
 
-    const auto an = SymmetricPatternAnalysis::of(a);
-    REQUIRE(an->symmetric);
-    const double* value = a.valuePtr();
-    const std::size_t nnzL = std::size_t(an->colPtr[std::size_t(n)]);
-    std::vector<double> l(nnzL, 0.0), u(nnzL, 0.0), d(std::size_t(n), 0.0);
-    std::vector<double> yv(std::size_t(n), 0.0), zv(std::size_t(n), 0.0);
-    std::vector<int> filled(std::size_t(n), 0);
-    for (int k = 0; k < n; ++k) {
-        for (int e = an->upperStart[std::size_t(k)]; e < an->upperStart[std::size_t(k) + 1]; ++e)
-            yv[std::size_t(an->upperRow[std::size_t(e)])] += value[an->upperAt[std::size_t(e)]];
-        for (int e = an->lowerStart[std::size_t(k)]; e < an->lowerStart[std::size_t(k) + 1]; ++e)
-            zv[std::size_t(an->lowerCol[std::size_t(e)])] += value[an->lowerAt[std::size_t(e)]];
-        double dk = yv[std::size_t(k)];
-        yv[std::size_t(k)] = 0.0;
-        for (int t = an->reachStart[std::size_t(k)]; t < an->reachStart[std::size_t(k) + 1]; ++t) {
-            const int i = an->reach[std::size_t(t)];
-            const double yi = yv[std::size_t(i)], zi = zv[std::size_t(i)];
-            yv[std::size_t(i)] = 0.0;
-            zv[std::size_t(i)] = 0.0;
-            const int begin = an->colPtr[std::size_t(i)], end = begin + filled[std::size_t(i)];
-            for (int p = begin; p < end; ++p) {
-                const int r = an->lowerRow[std::size_t(p)];
-                yv[std::size_t(r)] = yv[std::size_t(r)] - l[std::size_t(p)] * yi;
-                zv[std::size_t(r)] = zv[std::size_t(r)] - u[std::size_t(p)] * zi;
+        const auto an = SymmetricPatternAnalysis::of(a);
+        REQUIRE(an->symmetric);
+        CHECK(std::count_if(an->reachRun.begin(), an->reachRun.end(), [](std::uint8_t r) { return r > 1; }) > 0);
+        const double* value = a.valuePtr();
+        const std::size_t nnzL = std::size_t(an->colPtr[std::size_t(n)]);
+        std::vector<double> l(nnzL, 0.0), u(nnzL, 0.0), d(std::size_t(n), 0.0);
+        std::vector<double> yv(std::size_t(n), 0.0), zv(std::size_t(n), 0.0);
+        std::vector<int> filled(std::size_t(n), 0);
+        for (int k = 0; k < n; ++k) {
+            for (int e = an->upperStart[std::size_t(k)]; e < an->upperStart[std::size_t(k) + 1]; ++e)
+                yv[std::size_t(an->upperRow[std::size_t(e)])] += value[an->upperAt[std::size_t(e)]];
+            for (int e = an->lowerStart[std::size_t(k)]; e < an->lowerStart[std::size_t(k) + 1]; ++e)
+                zv[std::size_t(an->lowerCol[std::size_t(e)])] += value[an->lowerAt[std::size_t(e)]];
+            double dk = yv[std::size_t(k)];
+            yv[std::size_t(k)] = 0.0;
+            for (int t = an->reachStart[std::size_t(k)]; t < an->reachStart[std::size_t(k) + 1]; ++t) {
+                const int i = an->reach[std::size_t(t)];
+                const double yi = yv[std::size_t(i)], zi = zv[std::size_t(i)];
+                yv[std::size_t(i)] = 0.0;
+                zv[std::size_t(i)] = 0.0;
+                const int begin = an->colPtr[std::size_t(i)], end = begin + filled[std::size_t(i)];
+                for (int p = begin; p < end; ++p) {
+                    const int r = an->lowerRow[std::size_t(p)];
+                    yv[std::size_t(r)] = yv[std::size_t(r)] - l[std::size_t(p)] * yi;
+                    zv[std::size_t(r)] = zv[std::size_t(r)] - u[std::size_t(p)] * zi;
+                }
+                const double lki = zi / d[std::size_t(i)], uik = yi / d[std::size_t(i)];
+                dk -= lki * yi;
+                l[std::size_t(end)] = lki;
+                u[std::size_t(end)] = uik;
+                ++filled[std::size_t(i)];
             }
-            const double lki = zi / d[std::size_t(i)], uik = yi / d[std::size_t(i)];
-            dk -= lki * yi;
-            l[std::size_t(end)] = lki;
-            u[std::size_t(end)] = uik;
-            ++filled[std::size_t(i)];
+            d[std::size_t(k)] = dk;
         }
-        d[std::size_t(k)] = dk;
+        std::vector<double> w(std::size_t(n), 0.0);
+        for (int k = 0; k < n; ++k) w[std::size_t(k)] = b[an->perm[std::size_t(k)]];
+        for (int j = 0; j < n; ++j) {
+            if (w[std::size_t(j)] == 0.0) continue;
+            for (int p = an->colPtr[std::size_t(j)]; p < an->colPtr[std::size_t(j) + 1]; ++p)
+                w[std::size_t(an->lowerRow[std::size_t(p)])] -= l[std::size_t(p)] * w[std::size_t(j)];
+        }
+        for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d[std::size_t(j)];
+        for (int j = n - 1; j >= 0; --j) {
+            double s = w[std::size_t(j)];
+            for (int p = an->colPtr[std::size_t(j)]; p < an->colPtr[std::size_t(j) + 1]; ++p)
+                s -= u[std::size_t(p)] * w[std::size_t(an->lowerRow[std::size_t(p)])];
+            w[std::size_t(j)] = s;
+        }
+        Eigen::VectorXd reference(n);
+        for (int k = 0; k < n; ++k) reference[an->perm[std::size_t(k)]] = w[std::size_t(k)];
+        CHECK(std::memcmp(x.data(), reference.data(), sizeof(double) * std::size_t(n)) == 0);
     }
-    std::vector<double> w(std::size_t(n), 0.0);
-    for (int k = 0; k < n; ++k) w[std::size_t(k)] = b[an->perm[std::size_t(k)]];
-    for (int j = 0; j < n; ++j) {
-        if (w[std::size_t(j)] == 0.0) continue;
-        for (int p = an->colPtr[std::size_t(j)]; p < an->colPtr[std::size_t(j) + 1]; ++p)
-            w[std::size_t(an->lowerRow[std::size_t(p)])] -= l[std::size_t(p)] * w[std::size_t(j)];
-    }
-    for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d[std::size_t(j)];
-    for (int j = n - 1; j >= 0; --j) {
-        double s = w[std::size_t(j)];
-        for (int p = an->colPtr[std::size_t(j)]; p < an->colPtr[std::size_t(j) + 1]; ++p)
-            s -= u[std::size_t(p)] * w[std::size_t(an->lowerRow[std::size_t(p)])];
-        w[std::size_t(j)] = s;
-    }
-    Eigen::VectorXd reference(n);
-    for (int k = 0; k < n; ++k) reference[an->perm[std::size_t(k)]] = w[std::size_t(k)];
-    CHECK(std::memcmp(x.data(), reference.data(), sizeof(double) * std::size_t(n)) == 0);
 }
 
 TEST_CASE("symmetric-pattern LU: with symmetric values it reads one entry of each mirrored pair, as readsSymmetric says") {
