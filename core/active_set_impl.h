@@ -214,9 +214,13 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             x[std::size_t(2 * c)] = w[0];
             x[std::size_t(2 * c + 1)] = D::dot(D::fromComponents(w + 1), sys.dirs[std::size_t(2 * c)]);
         }
+        // Buffers and the last system, kept across solves when the caller provides a scratch (ActiveSetScratch).
+        ActiveSetScratch localScratch;
+        ActiveSetScratch& scratch = settings.scratch ? *settings.scratch : localScratch;
         auto interiorPoint = [&](std::vector<double>& xOut) {
             return detail::interiorPointStart<D>(ioBodies, sys.mu, diag, dof, ndof, bMax, rowAt, velocities, rowWork,
-                                                 settings.patternCache, settings.maxWork, work, xOut);
+                                                 settings.patternCache, &scratch.interiorPoint, settings.maxWork, work,
+                                                 xOut);
         };
         project(x);
         velocities(x, u);
@@ -227,16 +231,15 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<std::uint8_t> state(static_cast<std::size_t>(nc), std::uint8_t(0));
         std::vector<int> freeIndex(std::size_t(2 * nc));
         std::vector<int> freeUnknown;
-        std::vector<Eigen::Triplet<double>> triplets;
+        std::vector<Eigen::Triplet<double>>& triplets = scratch.triplets;
         std::vector<double> dx(std::size_t(2 * nc)), xt(std::size_t(2 * nc)), ut(std::size_t(2 * nc));
         std::vector<double> xp(std::size_t(2 * nc)), up(std::size_t(2 * nc)), rhs;  // projected trial; right-hand side
         Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-        SymmetricPatternLu factor;
+        SymmetricPatternLu& factor = scratch.factor;
         std::vector<int> analysedFree;  // the free unknowns factor's ordering was computed for
         std::vector<int> systemPos;     // each free unknown's place among the system's unknowns
-        std::vector<Eigen::Triplet<double>> slipTriplets;
-        detail::ColumnAssembly assembly;
-        Eigen::SparseMatrix<double> K;  // the body-space system of the current iterate
+        std::vector<Eigen::Triplet<double>>& slipTriplets = scratch.slipTriplets;
+        Eigen::SparseMatrix<double>& K = scratch.K;  // the body-space system of the current iterate
         // The values of the system `factor` holds (empty: none). A face kept from one iteration to the next (phases 0
         // and 2 at the same proximal term) gives the same system to the bit; its factors are then reused as they are.
         std::vector<double> factoredValues;
@@ -249,6 +252,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
         // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
         constexpr int kPolish = 8, kHalvings = 3;
+        // Systems of at least this many entries record their assembly plan (ActiveSetScratch).
+        constexpr std::size_t kPlanEntries = 4096;
         // An analysed pattern is reused for a subset of its unknowns with at most one in this many more (see below).
         constexpr std::size_t kPatternSlack = 16;
         // The interior-point restart is tried once, after phase 0, when phase 0's best residual is above this many tolerances.
@@ -476,10 +481,21 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             bool stepFound = false;
             {
                 triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
-                // Duplicates (a body twice in a row, a slipping contact's share) are summed.
-                detail::assembleColumns(ndof + ns, triplets, K, assembly);
+                // Duplicates (a body twice in a row, a slipping contact's share) are summed. A system of the last
+                // one's entry sequence (a settled island's next step, a kept face's next iteration) has its pattern:
+                // its values are refilled in place. Big systems record the plan for that.
+                const bool refilled = detail::refillColumns(ndof + ns, triplets, K, scratch.assembly);
+                if (refilled) ++scratch.refills;
+                if (!refilled) {
+                    if (triplets.size() >= kPlanEntries)
+                        detail::assembleColumns<true>(ndof + ns, triplets, K, scratch.assembly);
+                    else
+                        detail::assembleColumns(ndof + ns, triplets, K, scratch.assembly);
+                }
                 if (!onAnalysed) {
-                    factor.analyzePattern(K, settings.patternCache);  // a pure function of the pattern
+                    // A pure function of the pattern: the factor's analysis stands when K kept its pattern.
+                    if (!(refilled && scratch.factorHoldsK)) factor.analyzePattern(K, settings.patternCache);
+                    scratch.factorHoldsK = true;
                     analysedFree = freeUnknown;
                     factoredValues.clear();
                     ++out.patternAnalyses;

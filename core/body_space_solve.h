@@ -5,6 +5,8 @@
 
 #include <Eigen/SparseCore>
 
+#include "symmetric_pattern_lu.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -110,27 +112,46 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
     }
 }
 
-// Storage of assembleColumns, kept across the steps of one active-set solve.
+// Storage of assembleColumns, kept across the steps of one active-set solve (and, in ActiveSetScratch, across
+// solves). The plan is that of the last assembly made with one (assembleColumns with `plan`): the (row, column) of
+// each entry in the order given, the place in the matrix's values each went to, and whether it was the first there.
 struct ColumnAssembly {
-    std::vector<int> start, fill, rows;
+    std::vector<int> start, fill, rows, origin;
     std::vector<double> values;
+    int planSize = -1;
+    std::vector<int> planRowCol, planSlot;
+    std::vector<std::uint8_t> planFirst;
 };
 
 // The column-major n x n matrix of `entries` (row, column, value): duplicates summed in the order given, rows ascending
 // within each column. The same matrix, to the bit, as Eigen's setFromTriplets, which sums in the same order, without
-// its row-major intermediate.
-inline void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries,
-                            Eigen::SparseMatrix<double>& out, ColumnAssembly& ws) {
+// its row-major intermediate. With `plan`, also records where each entry went (ColumnAssembly), for refillColumns.
+template <bool kPlan = false>
+void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries, Eigen::SparseMatrix<double>& out,
+                     ColumnAssembly& ws) {
+    ws.planSize = -1;  // the plan describes out's pattern only once a planned assembly completes
     ws.start.assign(std::size_t(n) + 1, 0);
     for (const Eigen::Triplet<double>& e : entries) ++ws.start[std::size_t(e.col()) + 1];
     for (int j = 0; j < n; ++j) ws.start[std::size_t(j) + 1] += ws.start[std::size_t(j)];
     ws.fill.assign(ws.start.begin(), ws.start.end() - 1);
     ws.rows.resize(entries.size());
     ws.values.resize(entries.size());
-    for (const Eigen::Triplet<double>& e : entries) {
+    if (kPlan) ws.origin.resize(entries.size());
+    for (std::size_t t = 0; t < entries.size(); ++t) {
+        const Eigen::Triplet<double>& e = entries[t];
         const int p = ws.fill[std::size_t(e.col())]++;
         ws.rows[std::size_t(p)] = e.row();
         ws.values[std::size_t(p)] = e.value();
+        if (kPlan) ws.origin[std::size_t(p)] = int(t);
+    }
+    if (kPlan) {
+        ws.planRowCol.resize(2 * entries.size());
+        ws.planSlot.resize(entries.size());
+        ws.planFirst.resize(entries.size());
+        for (std::size_t t = 0; t < entries.size(); ++t) {
+            ws.planRowCol[2 * t] = entries[t].row();
+            ws.planRowCol[2 * t + 1] = entries[t].col();
+        }
     }
     int w = 0;
     for (int j = 0, b = ws.start[0]; j < n; ++j) {
@@ -138,22 +159,30 @@ inline void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& en
         for (int p = b + 1; p < e; ++p) {  // a stable insertion sort by row (columns hold a few dozen entries)
             const int r = ws.rows[std::size_t(p)];
             const double v = ws.values[std::size_t(p)];
+            const int o = kPlan ? ws.origin[std::size_t(p)] : 0;
             int q = p;
             for (; q > b && ws.rows[std::size_t(q) - 1] > r; --q) {
                 ws.rows[std::size_t(q)] = ws.rows[std::size_t(q) - 1];
                 ws.values[std::size_t(q)] = ws.values[std::size_t(q) - 1];
+                if (kPlan) ws.origin[std::size_t(q)] = ws.origin[std::size_t(q) - 1];
             }
             ws.rows[std::size_t(q)] = r;
             ws.values[std::size_t(q)] = v;
+            if (kPlan) ws.origin[std::size_t(q)] = o;
         }
         ws.start[std::size_t(j)] = w;
         for (int p = b; p < e; ++p) {
-            if (w > ws.start[std::size_t(j)] && ws.rows[std::size_t(w) - 1] == ws.rows[std::size_t(p)]) {
+            const bool merge = w > ws.start[std::size_t(j)] && ws.rows[std::size_t(w) - 1] == ws.rows[std::size_t(p)];
+            if (merge) {
                 ws.values[std::size_t(w) - 1] += ws.values[std::size_t(p)];
             } else {
                 ws.rows[std::size_t(w)] = ws.rows[std::size_t(p)];
                 ws.values[std::size_t(w)] = ws.values[std::size_t(p)];
                 ++w;
+            }
+            if (kPlan) {
+                ws.planSlot[std::size_t(ws.origin[std::size_t(p)])] = w - 1;
+                ws.planFirst[std::size_t(ws.origin[std::size_t(p)])] = merge ? 0 : 1;
             }
         }
         b = e;
@@ -164,8 +193,61 @@ inline void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& en
     std::copy(ws.start.begin(), ws.start.end(), out.outerIndexPtr());
     std::copy(ws.rows.begin(), ws.rows.begin() + w, out.innerIndexPtr());
     std::copy(ws.values.begin(), ws.values.begin() + w, out.valuePtr());
+    if (kPlan) ws.planSize = n;
 }
 
+// When `entries` has the (row, column) sequence of the plan of the last planned assembly into `out` (n x n, and out
+// not changed since but for its values), writes their sums into out's values and returns true: the same sums in the
+// same order as assembleColumns, so the same bits, without the sort. Otherwise returns false and leaves out as it is.
+inline bool refillColumns(int n, const std::vector<Eigen::Triplet<double>>& entries, Eigen::SparseMatrix<double>& out,
+                          const ColumnAssembly& ws) {
+    if (ws.planSize != n || out.rows() != n || ws.planSlot.size() != entries.size()) return false;
+    const int* rc = ws.planRowCol.data();
+    for (std::size_t t = 0; t < entries.size(); ++t) {
+        if (entries[t].row() != rc[2 * t] || entries[t].col() != rc[2 * t + 1]) return false;
+    }
+    double* values = out.valuePtr();
+    const int* slot = ws.planSlot.data();
+    const std::uint8_t* first = ws.planFirst.data();
+    for (std::size_t t = 0; t < entries.size(); ++t) {
+        if (first[t])
+            values[slot[t]] = entries[t].value();
+        else
+            values[slot[t]] += entries[t].value();
+    }
+    return true;
+}
+
+// What the interior-point restart (core/interior_point_impl.h) keeps between calls: its body-space system, the
+// system's entries and their plan, the factorisation's analysis, and which entries it reads. A call whose first
+// iteration has the last call's entries (contact by contact) refills the values and reuses the rest.
+struct InteriorPointScratch {
+    std::vector<Eigen::Triplet<double>> kt;
+    std::vector<int> kpos, kcontact, readPos, readStart;
+    std::vector<std::uint8_t> kcode, readCode;
+    Eigen::SparseMatrix<double> Kb;
+    ColumnAssembly assembly;
+    SymmetricPatternLu factor;
+    int planContacts = -1;  // the contact count of the entries below (-1: none)
+    std::vector<int> planContact;
+    std::vector<std::uint8_t> planCode;
+    std::uint64_t refills = 0;  // calls whose system was refilled (a count, for tests)
+};
+
 }  // namespace detail
+
+/// What the active-set path keeps between solves (ActiveSetOptions::scratch): buffers that keep their capacity, and
+/// the body-space system of the last iteration with its assembly plan and its factorisation's analysis. A settled
+/// island whose system has last step's pattern then refills its values in place and skips the sort and the pattern
+/// analysis. It changes the cost, never the answer.
+struct ActiveSetScratch {
+    std::vector<Eigen::Triplet<double>> triplets, slipTriplets;
+    detail::ColumnAssembly assembly;
+    Eigen::SparseMatrix<double> K;
+    SymmetricPatternLu factor;
+    bool factorHoldsK = false;  ///< factor's analysis is that of K's pattern
+    std::uint64_t refills = 0;  ///< iterations whose system was refilled in place (a count, for tests)
+    detail::InteriorPointScratch interiorPoint;  ///< the interior-point restart's
+};
 
 }  // namespace unison

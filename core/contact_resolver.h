@@ -22,6 +22,7 @@
 namespace unison {
 
 class SymmetricPatternCache;  // core/symmetric_pattern_lu.h
+struct ActiveSetScratch;      // core/body_space_solve.h
 
 /// State of one body as the resolver sees it (SI units). For a static body set invMass = 0 and invInertia = 0.
 template <class D>
@@ -172,6 +173,8 @@ struct ActiveSetOptions {
     std::uint64_t maxWork = 0;       ///< stop once this many work units are spent (0: no limit)
     /// Analyses of system patterns kept between calls (nullptr: none); it changes the cost, never the answer.
     SymmetricPatternCache* patternCache = nullptr;
+    /// Buffers and the last system kept between calls (nullptr: none); it changes the cost, never the answer.
+    ActiveSetScratch* scratch = nullptr;
     /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
     /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
     /// convex relaxation (docs/solver.md).

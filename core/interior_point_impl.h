@@ -30,13 +30,13 @@ namespace detail {
 /// p_t of contact c at 2c, 2c + 1). rowAt(c, r) is contact c's normal (r = 0) or +t (r = 1) Jacobian row, velocities(x,
 /// u) sets u = b + J M^-1 J^T x, diag the diagonal of J M^-1 J^T per unknown, dof each body's first degree of
 /// freedom (-1: immovable), bMax the largest |b|. Adds its work units to `work` and stops (false) once `maxWork`
-/// (0: none) is reached, or when a factorisation fails.
+/// (0: none) is reached, or when a factorisation fails. `scratch` (nullptr: none) keeps the system between calls.
 template <class D, class RowAt, class Velocities>
 bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::vector<double>& friction,
                         const std::vector<double>& diag, const std::vector<int>& dof, int ndof, double bMax,
                         const RowAt& rowAt, const Velocities& velocities, std::uint64_t rowWork,
-                        SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
-                        std::vector<double>& xOut) {
+                        SymmetricPatternCache* cache, InteriorPointScratch* scratch, std::uint64_t maxWork,
+                        std::uint64_t& work, std::vector<double>& xOut) {
     const int nc = int(friction.size());
     const int nb = int(bodies.size());
     std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
@@ -68,12 +68,19 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
     // of freedom), only the values change. After the first iteration only the entries its L D L^T factorisation of
     // symmetric values reads (those on and above the diagonal in its elimination order) are written; the others stay 0.
-    std::vector<Eigen::Triplet<double>> kt;
-    std::vector<int> kpos;
-    std::vector<std::uint8_t> kread;  // per entry of kt: does the factorisation read it
-    Eigen::SparseMatrix<double> Kb;
-    detail::ColumnAssembly kbAssembly;
-    SymmetricPatternLu kbFactor;
+    InteriorPointScratch localScratch;
+    InteriorPointScratch& sc = scratch ? *scratch : localScratch;
+    std::vector<Eigen::Triplet<double>>& kt = sc.kt;
+    std::vector<int>& kpos = sc.kpos;
+    std::vector<int>& kcontact = sc.kcontact;     // per contact entry of kt (after the mass diagonal): its contact
+    std::vector<std::uint8_t>& kcode = sc.kcode;  // ... and its sides and components (sa << 6 | a << 4 | sb << 2 | bb)
+    // The contact entries the factorisation reads, in kt's order: their place in Kb's values and their code, and
+    // where each contact's begin.
+    std::vector<int>& readPos = sc.readPos;
+    std::vector<int>& readStart = sc.readStart;
+    std::vector<std::uint8_t>& readCode = sc.readCode;
+    Eigen::SparseMatrix<double>& Kb = sc.Kb;
+    SymmetricPatternLu& kbFactor = sc.factor;
     bool analysed = false;
     std::vector<double> moment(std::size_t(ndof > 0 ? ndof : 1));
     auto addRows = [&](int c, double hn, double ht) {  // moment += J_n^T hn + J_t^T ht
@@ -230,7 +237,11 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         }
         // Entries in a fixed order: the first iteration assembles the pattern, the later ones add the values
         // where the first put them (the same sums in the same order as assembleColumns).
-        if (!analysed) kt.clear();
+        if (!analysed) {
+            kt.clear();
+            kcontact.clear();
+            kcode.clear();
+        }
         double* values = analysed ? Kb.valuePtr() : nullptr;
         if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
         std::size_t entry = 0;
@@ -248,50 +259,96 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             const double inv[3] = {B.invMass, B.invMass, B.invInertia};
             for (int a = 0; a < 3; ++a) put(d + a, d + a, inv[a] > 0.0 ? 1.0 / inv[a] : 1.0);
         }
-        for (int c = 0; c < nc; ++c) {
-            const detail::JacobianRow<D>& rn = rowAt(c, 0);
-            const detail::JacobianRow<D>& rt = rowAt(c, 1);
-            const double* H = &hinv[std::size_t(3 * c)];
-            for (int sa = 0; sa < 2; ++sa) {
-                const int da = dof[std::size_t(rn.body[sa])];
-                if (da < 0) continue;
-                const double na[3] = {rn.lin[sa].x, rn.lin[sa].y, rn.ang[sa]};
-                const double ta[3] = {rt.lin[sa].x, rt.lin[sa].y, rt.ang[sa]};
-                for (int sb = 0; sb < 2; ++sb) {
-                    const int db = dof[std::size_t(rn.body[sb])];
-                    if (db < 0) continue;
-                    const double nbv[3] = {rn.lin[sb].x, rn.lin[sb].y, rn.ang[sb]};
-                    const double tbv[3] = {rt.lin[sb].x, rt.lin[sb].y, rt.ang[sb]};
-                    for (int a = 0; a < 3; ++a) {
-                        if (locked[std::size_t(da + a)]) continue;
-                        for (int bb = 0; bb < 3; ++bb) {
-                            if (locked[std::size_t(db + bb)]) continue;
-                            if (analysed && !kread[entry]) {  // not read by the factorisation
-                                ++entry;
-                                continue;
+        if (!analysed) {
+            for (int c = 0; c < nc; ++c) {
+                const detail::JacobianRow<D>& rn = rowAt(c, 0);
+                const detail::JacobianRow<D>& rt = rowAt(c, 1);
+                const double* H = &hinv[std::size_t(3 * c)];
+                for (int sa = 0; sa < 2; ++sa) {
+                    const int da = dof[std::size_t(rn.body[sa])];
+                    if (da < 0) continue;
+                    const double na[3] = {rn.lin[sa].x, rn.lin[sa].y, rn.ang[sa]};
+                    const double ta[3] = {rt.lin[sa].x, rt.lin[sa].y, rt.ang[sa]};
+                    for (int sb = 0; sb < 2; ++sb) {
+                        const int db = dof[std::size_t(rn.body[sb])];
+                        if (db < 0) continue;
+                        const double nbv[3] = {rn.lin[sb].x, rn.lin[sb].y, rn.ang[sb]};
+                        const double tbv[3] = {rt.lin[sb].x, rt.lin[sb].y, rt.ang[sb]};
+                        for (int a = 0; a < 3; ++a) {
+                            if (locked[std::size_t(da + a)]) continue;
+                            for (int bb = 0; bb < 3; ++bb) {
+                                if (locked[std::size_t(db + bb)]) continue;
+                                const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
+                                                 ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
+                                kcontact.push_back(c);
+                                kcode.push_back(std::uint8_t(sa << 6 | a << 4 | sb << 2 | bb));
+                                put(da + a, db + bb, v);
                             }
-                            const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
-                                             ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
-                            put(da + a, db + bb, v);
                         }
                     }
                 }
             }
+        } else {
+            // The entries the factorisation reads, contact by contact (readStart), with the products of H and the
+            // rows shared by a contact's entries computed once: the same values, added in the same order.
+            for (int c = 0; c < nc; ++c) {
+                const int first = readStart[std::size_t(c)], last = readStart[std::size_t(c) + 1];
+                if (first == last) continue;
+                const detail::JacobianRow<D>& rn = rowAt(c, 0);
+                const detail::JacobianRow<D>& rt = rowAt(c, 1);
+                const double* H = &hinv[std::size_t(3 * c)];
+                double na[2][3], ta[2][3], hn[2][3], ht[2][3];
+                for (int sd = 0; sd < 2; ++sd) {
+                    const double nv[3] = {rn.lin[sd].x, rn.lin[sd].y, rn.ang[sd]};
+                    const double tv[3] = {rt.lin[sd].x, rt.lin[sd].y, rt.ang[sd]};
+                    for (int a = 0; a < 3; ++a) {
+                        na[sd][a] = nv[a];
+                        ta[sd][a] = tv[a];
+                        hn[sd][a] = H[0] * nv[a] + H[1] * tv[a];
+                        ht[sd][a] = H[1] * nv[a] + H[2] * tv[a];
+                    }
+                }
+                for (int r = first; r < last; ++r) {
+                    const unsigned code = readCode[std::size_t(r)];
+                    const unsigned sa = code >> 6, a = (code >> 4) & 3u, sb = (code >> 2) & 3u, bb = code & 3u;
+                    values[readPos[std::size_t(r)]] += na[sa][a] * hn[sb][bb] + ta[sa][a] * ht[sb][bb];
+                }
+            }
+            entry = kt.size();  // every entry counts in the work, read or not
         }
         if (ndof > 0) {
             if (!analysed) {
-                detail::assembleColumns(ndof, kt, Kb, kbAssembly);
-                kbFactor.analyzePattern(Kb, cache);
                 analysed = true;
-                kpos.resize(kt.size());
-                kread.resize(kt.size());
-                for (std::size_t t = 0; t < kt.size(); ++t) {
-                    kread[t] = kbFactor.readsSymmetric(kt[t].row(), kt[t].col()) ? 1 : 0;
-                    const int col = kt[t].col();
-                    const int* rows = Kb.innerIndexPtr();
-                    const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],
-                                                     rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
-                    kpos[t] = int(at - rows);
+                // The same entries as the last solve's first iteration (a pile's next landing step with the same
+                // contacts): Kb, its analysis and the lists below are this system's; only the values are new.
+                const bool same = sc.planContacts == nc && sc.planContact == kcontact && sc.planCode == kcode &&
+                                  refillColumns(ndof, kt, Kb, sc.assembly);
+                if (same) ++sc.refills;
+                if (!same) {
+                    sc.planContacts = -1;
+                    assembleColumns<true>(ndof, kt, Kb, sc.assembly);
+                    kbFactor.analyzePattern(Kb, cache);
+                    kpos.resize(kt.size());
+                    readPos.clear();
+                    readCode.clear();
+                    const std::size_t bodyEntries = kt.size() - kcode.size();  // the mass diagonal comes first
+                    readStart.assign(std::size_t(nc) + 1, 0);
+                    for (std::size_t t = 0; t < kt.size(); ++t) {
+                        const int col = kt[t].col();
+                        const int* rows = Kb.innerIndexPtr();
+                        const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],
+                                                         rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
+                        kpos[t] = int(at - rows);
+                        if (t >= bodyEntries && kbFactor.readsSymmetric(kt[t].row(), kt[t].col())) {
+                            readPos.push_back(kpos[t]);
+                            readCode.push_back(kcode[t - bodyEntries]);
+                            ++readStart[std::size_t(kcontact[t - bodyEntries]) + 1];
+                        }
+                    }
+                    for (int c = 0; c < nc; ++c) readStart[std::size_t(c) + 1] += readStart[std::size_t(c)];
+                    sc.planContact = kcontact;
+                    sc.planCode = kcode;
+                    sc.planContacts = nc;
                 }
             }
             if (!kbFactor.factorize(Kb, true)) return false;

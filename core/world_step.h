@@ -27,6 +27,7 @@
 // is reset every step and never hashed.
 #pragma once
 
+#include "body_space_solve.h"
 #include "contact_resolver.h"
 #include "island.h"
 #include <unison/lcp.h>
@@ -217,6 +218,7 @@ private:
         IslandSetup setup;            // the island being solved
         PgsScratch<D> pgs;            // the approximation's working arrays
         SymmetricPatternCache patterns;  // the active-set path's analyses of recent steps' system patterns
+        ActiveSetScratch activeSet;      // the active-set path's buffers and last system
         StepStats collide;            // narrowphase counts (candidates) of this worker's pairs
         std::uint64_t narrowWork = 0;  // the narrowphase's work units of the pairs this worker gathered
         int kinematicBodies = 0;      // kinematic bodies this worker met in findContacts' body pass

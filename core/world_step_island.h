@@ -223,6 +223,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             ActiveSetOptions fastOptions;
             fastOptions.patternCache = &worker.patterns;
+            fastOptions.scratch = &worker.activeSet;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
             // A big island's iterations are factorisations of thousands of unknowns: a near miss at the floor of
             // the warm start's face ends there (kFloorExit, step_support.h).

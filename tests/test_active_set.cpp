@@ -9,6 +9,7 @@
 #include "scene_json.h"
 #include "world2d.h"
 #include "step_support.h"
+#include "body_space_solve.h"
 #include "symmetric_pattern_lu.h"
 
 #include <Eigen/Dense>
@@ -100,6 +101,20 @@ double assembledResidual(const std::vector<Body2>& before, const std::vector<Con
     return res / scale;
 }
 
+// Warm impulses that belong to another problem: every contact pushing at three times a box's weight (1 kg, 10 m/s^2,
+// 1/60 s), its friction on the cone's rim.
+std::vector<double> farWarmStart(const Wall& wall) {
+    std::vector<double> wrong;
+    for (const Contact2& c : wall.contacts) {
+        const double pn = 3.0 / 60.0 * 10.0;
+        const std::vector<Vec2> dirs = frictionDirections(c, 2);
+        wrong.push_back(pn);
+        wrong.push_back(c.friction * pn * dirs[0].x);
+        wrong.push_back(c.friction * pn * dirs[0].y);
+    }
+    return wrong;
+}
+
 }  // namespace
 
 TEST_SUITE("active_set") {
@@ -158,6 +173,59 @@ TEST_CASE("active-set path: a resting wall of boxes from a cold start is certifi
     CHECK(cache.hits() >= cache.size());  // every pattern of the second call was met in the first
 }
 
+TEST_CASE("active-set path: a scratch kept across solves gives the bits of solves without one") {
+    // A sequence as a world's worker meets it: a big wall solved cold, then warm from its own answer, then from a
+    // far warm start (the interior-point restart), a different wall in between, and the big wall again. With one
+    // scratch for all of them, systems with the last one's entries are refilled in place (no sort, no analysis);
+    // every answer must be the bits, and the work, of the same solve with no scratch.
+    const Wall big = restingWall(12, 10, 0.6), other = restingWall(7, 5, 0.4);
+    ResolverOptions options;
+    options.frictionDirections = 2;
+    auto answerAsWarm = [](const Resolution& r) {
+        std::vector<double> w;
+        for (std::size_t c = 0; c < r.impulses.size(); ++c) {
+            w.push_back(r.impulses[c]);
+            w.push_back(r.tangentImpulses[2 * c]);
+            w.push_back(r.tangentImpulses[2 * c + 1]);
+        }
+        return w;
+    };
+    ActiveSetScratch scratch;
+    ActiveSetOptions kept;
+    kept.scratch = &scratch;
+    std::vector<double> bigWarm(big.contacts.size() * 3, 0.0), otherWarm(other.contacts.size() * 3, 0.0);
+    int interiorPoints = 0;
+    for (int call = 0; call < 9; ++call) {
+        CAPTURE(call);
+        const bool useOther = call == 3 || call == 4;
+        const Wall& wall = useOther ? other : big;
+        std::vector<double>& warm = useOther ? otherWarm : bigWarm;
+        const std::vector<double> start = call == 2 || call == 6 || call == 7 ? farWarmStart(wall) : warm;
+        std::vector<Body2> plain = wall.bodies, withScratch = wall.bodies;
+        const Resolution a = resolveActiveSet(plain, wall.contacts, start, options, ActiveSetOptions{});
+        const Resolution b = resolveActiveSet(withScratch, wall.contacts, start, options, kept);
+        REQUIRE(a.status == b.status);
+        REQUIRE(a.impulses.size() == b.impulses.size());
+        CHECK(std::memcmp(a.impulses.data(), b.impulses.data(), a.impulses.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(a.tangentImpulses.data(), b.tangentImpulses.data(),
+                          a.tangentImpulses.size() * sizeof(double)) == 0);
+        CHECK(a.work == b.work);
+        CHECK(a.interiorPoint == b.interiorPoint);
+        for (std::size_t k = 0; k < plain.size(); ++k) {
+            CHECK(std::memcmp(&plain[k].velocity, &withScratch[k].velocity, sizeof(Vec2)) == 0);
+            CHECK(std::memcmp(&plain[k].angularVelocity, &withScratch[k].angularVelocity, sizeof(double)) == 0);
+        }
+        interiorPoints += b.interiorPoint ? 1 : 0;
+        if (b.status == LcpStatus::solved) warm = answerAsWarm(b);
+    }
+    // The sequence went through the interior-point restart and both kinds of refill.
+    CHECK(interiorPoints >= 3);
+    CHECK(scratch.refills > 0);
+    CHECK(scratch.interiorPoint.refills > 0);
+    MESSAGE("refilled systems: " << scratch.refills << " of the path, " << scratch.interiorPoint.refills
+                                 << " of the interior-point restart");
+}
+
 TEST_CASE("active-set path: agrees with Lemke on the velocities of a sliding, bouncing island") {
     // The wall thrown sideways at 2 m/s with e = 0.5 on the ground rows: slipping contacts (mu 0.3) and a bounce.
     Wall wall = restingWall(4, 3, 0.3);
@@ -201,14 +269,7 @@ TEST_CASE("active-set path: a warm start far from the answer restarts from the i
         }
         ResolverOptions options;
         options.frictionDirections = 2;
-        std::vector<double> wrong;
-        for (const Contact2& c : wall.contacts) {
-            const double pn = 3.0 / 60.0 * 10.0;
-            const std::vector<Vec2> dirs = frictionDirections(c, 2);
-            wrong.push_back(pn);
-            wrong.push_back(c.friction * pn * dirs[0].x);
-            wrong.push_back(c.friction * pn * dirs[0].y);
-        }
+        const std::vector<double> wrong = farWarmStart(wall);
         std::vector<Body2> bodies = wall.bodies;
         const Resolution r = resolveActiveSet(bodies, wall.contacts, wrong, options, ActiveSetOptions{});
         REQUIRE(r.status == LcpStatus::solved);
