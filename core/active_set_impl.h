@@ -252,7 +252,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
         // Iterations of each refining phase, and step halvings of phase 1 while the merit does not fall.
         constexpr int kPolish = 8, kHalvings = 3;
-        // Systems of at least this many entries record their assembly plan (ActiveSetScratch).
+        // Systems of at least this many entries are remembered for a refill (ActiveSetScratch).
         constexpr std::size_t kPlanEntries = 4096;
         // An analysed pattern is reused for a subset of its unknowns with at most one in this many more (see below).
         constexpr std::size_t kPatternSlack = 16;
@@ -484,17 +484,15 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 // Duplicates (a body twice in a row, a slipping contact's share) are summed. A system of the last
                 // one's entry sequence (a settled island's next step, a kept face's next iteration) has its pattern:
                 // its values are refilled in place. Big systems record the plan for that.
-                const bool refilled = detail::refillColumns(ndof + ns, triplets, K, scratch.assembly);
+                const bool refilled = detail::assembleOrRefill(ndof + ns, triplets, K, scratch.assembly, kPlanEntries);
                 if (refilled) ++scratch.refills;
-                if (!refilled) {
-                    if (triplets.size() >= kPlanEntries)
-                        detail::assembleColumns<true>(ndof + ns, triplets, K, scratch.assembly);
-                    else
-                        detail::assembleColumns(ndof + ns, triplets, K, scratch.assembly);
-                }
                 if (!onAnalysed) {
-                    // A pure function of the pattern: the factor's analysis stands when K kept its pattern.
-                    if (!(refilled && scratch.factorHoldsK)) factor.analyzePattern(K, settings.patternCache);
+                    // A pure function of the pattern: the factor's analysis stands when K kept its pattern (and its
+                    // cache entry stays, as if looked up).
+                    if (refilled && scratch.factorHoldsK)
+                        factor.keepAnalysis(settings.patternCache);
+                    else
+                        factor.analyzePattern(K, settings.patternCache);
                     scratch.factorHoldsK = true;
                     analysedFree = freeUnknown;
                     factoredValues.clear();

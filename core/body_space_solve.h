@@ -119,6 +119,7 @@ struct ColumnAssembly {
     std::vector<int> start, fill, rows, origin;
     std::vector<double> values;
     int planSize = -1;
+    int lastSize = -1;  // the n of the (row, column) pairs in planRowCol when no plan is recorded (assembleOrRefill)
     std::vector<int> planRowCol, planSlot;
     std::vector<std::uint8_t> planFirst;
 };
@@ -130,6 +131,7 @@ template <bool kPlan = false>
 void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries, Eigen::SparseMatrix<double>& out,
                      ColumnAssembly& ws) {
     ws.planSize = -1;  // the plan describes out's pattern only once a planned assembly completes
+    ws.lastSize = -1;
     ws.start.assign(std::size_t(n) + 1, 0);
     for (const Eigen::Triplet<double>& e : entries) ++ws.start[std::size_t(e.col()) + 1];
     for (int j = 0; j < n; ++j) ws.start[std::size_t(j) + 1] += ws.start[std::size_t(j)];
@@ -216,6 +218,32 @@ inline bool refillColumns(int n, const std::vector<Eigen::Triplet<double>>& entr
             values[slot[t]] += entries[t].value();
     }
     return true;
+}
+
+// Assembles `out` from `entries` as assembleColumns does, or refills it (refillColumns, returning true) when the
+// entries repeat those of the last call with a plan. Entry sequences of at least `minPlan` entries are remembered;
+// the plan is recorded when a sequence comes the second time in a row, so systems whose pattern keeps changing (a
+// landing pile's active-set iterations) pay only a copy of their (row, column) pairs.
+inline bool assembleOrRefill(int n, const std::vector<Eigen::Triplet<double>>& entries,
+                             Eigen::SparseMatrix<double>& out, ColumnAssembly& ws, std::size_t minPlan) {
+    if (refillColumns(n, entries, out, ws)) return true;
+    bool repeat = ws.lastSize == n && ws.planRowCol.size() == 2 * entries.size();
+    for (std::size_t t = 0; t < entries.size() && repeat; ++t)
+        repeat = entries[t].row() == ws.planRowCol[2 * t] && entries[t].col() == ws.planRowCol[2 * t + 1];
+    if (repeat && entries.size() >= minPlan) {
+        assembleColumns<true>(n, entries, out, ws);
+    } else {
+        assembleColumns(n, entries, out, ws);
+        if (entries.size() >= minPlan) {
+            ws.planRowCol.resize(2 * entries.size());
+            for (std::size_t t = 0; t < entries.size(); ++t) {
+                ws.planRowCol[2 * t] = entries[t].row();
+                ws.planRowCol[2 * t + 1] = entries[t].col();
+            }
+            ws.lastSize = n;
+        }
+    }
+    return false;
 }
 
 // What the interior-point restart (core/interior_point_impl.h) keeps between calls: its body-space system, the

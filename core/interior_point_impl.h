@@ -323,7 +323,10 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 // contacts): Kb, its analysis and the lists below are this system's; only the values are new.
                 const bool same = sc.planContacts == nc && sc.planContact == kcontact && sc.planCode == kcode &&
                                   refillColumns(ndof, kt, Kb, sc.assembly);
-                if (same) ++sc.refills;
+                if (same) {
+                    ++sc.refills;
+                    kbFactor.keepAnalysis(cache);
+                }
                 if (!same) {
                     sc.planContacts = -1;
                     assembleColumns<true>(ndof, kt, Kb, sc.assembly);

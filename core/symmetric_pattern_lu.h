@@ -76,8 +76,11 @@ public:
     explicit SymmetricPatternCache(std::size_t maxBytes = kDefaultBytes) : maxBytes_(maxBytes) {}
 
     /// The analysis of `a` (square, compressed): the one kept for its pattern, or a new one, kept when it fits.
-    std::shared_ptr<const SymmetricPatternAnalysis> analysisOf(const Eigen::SparseMatrix<double>& a) {
+    /// `keyOut` (optional) receives the key keep() finds it by.
+    std::shared_ptr<const SymmetricPatternAnalysis> analysisOf(const Eigen::SparseMatrix<double>& a,
+                                                               std::uint64_t* keyOut = nullptr) {
         const std::uint64_t key = hashOf(a);
+        if (keyOut) *keyOut = key;
         const auto it = entries_.find(key);
         if (it != entries_.end() && samePattern(it->second, a)) {
             ++hits_;
@@ -101,6 +104,12 @@ public:
         e.bytes = size;
         bytes_ += size;
         return analysis;
+    }
+    /// Marks the entry of `key` as used in this generation, as a call of analysisOf that found it would, when it
+    /// holds `analysis` (a caller that kept an analysis and its pattern skips the look-up).
+    void keep(std::uint64_t key, const SymmetricPatternAnalysis* analysis) {
+        const auto it = entries_.find(key);
+        if (it != entries_.end() && it->second.analysis.get() == analysis) it->second.generation = generation_;
     }
     /// Ends a generation: drops the entries that no analysisOf call used in it nor in the kKeepGenerations - 1 before
     /// it (a settled pile can alternate between two faces, so a pattern may return every other step).
@@ -165,9 +174,15 @@ public:
             analyzePattern(compressed, cache);
             return;
         }
-        an_ = cache ? cache->analysisOf(a) : SymmetricPatternAnalysis::of(a);
+        an_ = cache ? cache->analysisOf(a, &key_) : SymmetricPatternAnalysis::of(a);
         // The factors' arrays are sized by factorize; it writes every entry before reading it.
         nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
+    }
+
+    /// For a caller that keeps this analysis for a matrix of the same pattern: marks it used in `cache` (when it came
+    /// from there), so that the cache keeps it as if analyzePattern had looked it up.
+    void keepAnalysis(SymmetricPatternCache* cache) const {
+        if (cache && an_) cache->keep(key_, an_.get());
     }
 
     /// Factors `a` (the pattern analyzePattern saw). False when a pivot is zero or not finite. With `symmetricValues`
@@ -420,6 +435,7 @@ private:
     }
 
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
+    std::uint64_t key_ = 0;  // an_'s key in the cache it came from (keepAnalysis)
     std::vector<double> lu_, d_;  // L(row, j) and U(j, row) of column j's entry p at lu_[2 p], lu_[2 p + 1]
     std::vector<double> l_;       // L(row, j) at l_[p] after a factorisation of symmetric values (symmetric_)
     std::size_t nnz_ = 0;         // entries of L below its diagonal
