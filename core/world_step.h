@@ -209,9 +209,10 @@ private:
             keys.clear();
         }
     };
-    /// Scratch of one worker thread; nothing in it outlives an island (its buffers keep their capacity). Each on
-    /// cache lines of its own: a worker writes its counts and flags for every item, and a neighbour's solver
-    /// fields sharing a line with them would be invalidated in the other core's cache each time.
+    /// Scratch of one worker thread; nothing in it changes an answer: its buffers keep their capacity, and what it
+    /// keeps of an island (pattern analyses, the active-set path's last systems) only saves work on a later one.
+    /// Each on cache lines of its own: a worker writes its counts and flags for every item, and a neighbour's
+    /// solver fields sharing a line with them would be invalidated in the other core's cache each time.
     struct alignas(64) Worker {
         LemkeSolver solver;
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
