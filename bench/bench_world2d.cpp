@@ -23,8 +23,12 @@
 // Targets (printed at the end with PASS / FAIL / n/a): see the summary section in main(). Benchmarks report; they
 // never gate CI: the exit code is 0 unless something threw.
 //
+// Repeats: with --repeat N every scene runs N times in turn (each engine once per round, as in a single run), and
+// each engine's time for a step is the least of its N runs (keepFasterSteps). Every engine is deterministic, so a
+// step is the same work in every run; on a shared, noisy machine the least of a few is the closest to its cost.
+//
 // Usage: bench_world2d [--quick] [--budget-seconds S] [--settle-seconds S] [--stand-seconds S] [--filter SUBSTRING]
-//                      [--json FILE]
+//                      [--scenes NAME,...] [--repeat N] [--json FILE]
 #include "box2d_peer.h"
 #include "make_scenes2d.h"
 #include "scene_json.h"
@@ -352,6 +356,45 @@ Row runScene(const SceneSpec& spec) {
     return row;
 }
 
+// Two runs of one engine on one scene, merged step by step into `kept`: each step's time is the lesser of its two
+// runs (a step is the same work in both, every engine being deterministic), the build time the lesser build. When
+// one run got further (the other stopped by its budget, was killed or crashed), its later steps and its ending are
+// kept as they were.
+void keepFasterSteps(EngineRun& kept, EngineRun& other) {
+    if (!other.ran) return;
+    if (!kept.ran || other.steps > kept.steps) std::swap(kept, other);
+    if (!other.ran) return;
+    const int common = other.steps;
+    double sum = 0.0, worst = kept.killed ? kept.worstStepMs : 0.0, previousKept = 0.0, previousOther = 0.0;
+    for (int k = 0; k < kept.steps; ++k) {
+        double t = kept.cumMs[std::size_t(k)] - previousKept;
+        previousKept = kept.cumMs[std::size_t(k)];
+        if (k < common) {
+            t = std::min(t, other.cumMs[std::size_t(k)] - previousOther);
+            previousOther = other.cumMs[std::size_t(k)];
+        }
+        sum += t;
+        kept.cumMs[std::size_t(k)] = sum;
+        worst = std::max(worst, t);
+    }
+    kept.worstStepMs = worst;
+    kept.createMs = std::min(kept.createMs, other.createMs);
+}
+
+// A repeat of a scene folded into its row (keepFasterSteps for each engine). Unison's statistics and the stand
+// verdicts follow the positions, which are the same bits in every run; they are taken from the run that got further.
+void keepFaster(Row& kept, Row&& other) {
+    if (other.box2d.steps > kept.box2d.steps) kept.box2dStand = other.box2dStand;
+    keepFasterSteps(kept.box2d, other.box2d);
+    if (other.v3.steps > kept.v3.steps) kept.v3Stand = other.v3Stand;
+    keepFasterSteps(kept.v3, other.v3);
+    if (other.unison.steps > kept.unison.steps) {
+        kept.stats = other.stats;
+        kept.unisonStand = other.unisonStand;
+    }
+    keepFasterSteps(kept.unison, other.unison);
+}
+
 // Unison time / peer time over the steps both ran (0 when the peer did not run).
 double ratio(const EngineRun& u, const EngineRun& peer) {
     const int common = std::min(u.steps, peer.steps);
@@ -667,6 +710,8 @@ int main(int argc, char** argv) {
     double settleSeconds = 1.0;
     double standSeconds = 10.0;
     std::string filter;
+    std::vector<std::string> names;
+    int repeat = 1;
     std::string jsonPath;
     app.add_flag("--quick", quick, "small scenes for 60 steps, a few seconds in all (CI smoke run)");
     app.add_option("--budget-seconds", budgetSeconds, "replace every scene's budget of step time per engine")
@@ -677,6 +722,9 @@ int main(int argc, char** argv) {
     app.add_option("--stand-seconds", standSeconds, "scenes judged on standing run this long after settling (default 10)")
         ->check(CLI::NonNegativeNumber);
     app.add_option("--filter", filter, "only scenes whose name contains this substring");
+    app.add_option("--scenes", names, "only the scenes of these names (comma-separated)")->delimiter(',');
+    app.add_option("--repeat", repeat, "run every scene N times; each step's time is the least of its N runs (default 1)")
+        ->check(CLI::Range(1, 100));
     app.add_option("--json", jsonPath, "also write the results as JSON to FILE");
     CLI11_PARSE(app, argc, argv);
     if (quick && app.count("--settle-seconds") == 0) settleSeconds = 0.25;
@@ -685,6 +733,15 @@ int main(int argc, char** argv) {
         std::vector<SceneSpec> specs = makeScenes(quick, settleSeconds, standSeconds);
         if (budgetSeconds > 0.0) {
             for (SceneSpec& s : specs) s.budgetSeconds = s.peerBudgetSeconds = budgetSeconds;
+        }
+        for (const std::string& name : names) {
+            if (std::none_of(specs.begin(), specs.end(), [&](const SceneSpec& spec) { return spec.name == name; })) {
+                std::string known;
+                for (const SceneSpec& spec : specs) known += (known.empty() ? "" : ", ") + spec.name;
+                std::fprintf(stderr, "bench_world2d: no scene named '%s'%s; the scenes are: %s\n", name.c_str(),
+                             quick ? " in --quick" : "", known.c_str());
+                return 2;
+            }
         }
 #ifdef UNISON_HAVE_BOX2D_V3
         const char* v3 = "Box2D v3.2 (4 substeps, 1 worker)";
@@ -696,6 +753,7 @@ int main(int argc, char** argv) {
         std::printf("each engine stops a scene once it has used the scene's budget of step time; stands = top body "
                     "settled within %.1f m + 1%% of its standing height, then moves < %.0f cm sideways and sinks < %.0f cm\n\n",
                     kSettledHeightSlack, 100.0 * kStandTolerance, 100.0 * kStandTolerance);
+        if (repeat > 1) std::printf("every scene ran %d times; each step's time is the least of its runs\n\n", repeat);
         std::printf("%-16s %6s %5s %5s | %9s %8s %9s %9s %8s %8s | %8s %7s %6s %7s | %14s %4s %4s %4s  %s\n", "scene",
                     "bodies", "steps", "plan", "U ms/step", "U worst", "B ms/step", "B3 ms", "U/B", "U/B3", "max res",
                     "pen mm", "failed", "piv/stp", "U top cm", "U up", "B up", "B3up", "notes");
@@ -703,7 +761,9 @@ int main(int argc, char** argv) {
         rows.reserve(specs.size());
         for (const SceneSpec& spec : specs) {
             if (!filter.empty() && spec.name.find(filter) == std::string::npos) continue;
+            if (!names.empty() && std::find(names.begin(), names.end(), spec.name) == names.end()) continue;
             Row r = runScene(spec);
+            for (int round = 1; round < repeat; ++round) keepFaster(r, runScene(spec));
             std::string notes = runNote(r);
             if (r.box2d.stopped) notes += (notes.empty() ? "" : "; ") + std::string("box2d stopped (budget)");
             if (r.v3.stopped) notes += (notes.empty() ? "" : "; ") + std::string("box2d v3 stopped (budget)");
@@ -730,6 +790,7 @@ int main(int argc, char** argv) {
         if (!jsonPath.empty()) {
             nlohmann::json out;
             out["quick"] = quick;
+            out["repeat"] = repeat;  // each step's time is the least of this many runs
             out["scenes"] = nlohmann::json::array();
             for (const Row& r : rows) out["scenes"].push_back(toJson(r));
             std::ofstream file(jsonPath);
