@@ -4,15 +4,29 @@
 # builds x scenes of chain hashes (the XXH3 of every tick's state hash) and exits 1 if any build differs from the
 # first, 2 if a build or run fails.
 #
-# Usage: scripts/determinism.sh [--quick]
-#   --quick   only gcc -O2, clang -O2 and aarch64 (the three code generators; about half the time)
+# Usage: scripts/determinism.sh [--quick] [--reference DIR]
+#   --quick           only gcc -O2, clang -O2 and aarch64 (the three code generators; about half the time)
+#   --reference DIR   the first row is DIR/replay/unison_golden of an already built tree (e.g. build/ after
+#                     scripts/build.sh: gcc, Release -O2, the shipped build), which replaces the gcc -O2 build.
+#                     CI runs --quick --reference build: clang -O2 and aarch64 against the tested build.
 # Build folders: build-det-NAME/ (kept, so a second run only rebuilds what changed). Uses -j2.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 
 quick=0
-[ "${1:-}" = "--quick" ] && quick=1
+reference=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1; shift ;;
+    --reference) reference=${2:?usage: scripts/determinism.sh [--quick] [--reference DIR]}; shift 2 ;;
+    *) echo "usage: scripts/determinism.sh [--quick] [--reference DIR]" >&2; exit 2 ;;
+  esac
+done
+if [ -n "$reference" ] && [ ! -x "$reference/replay/unison_golden" ]; then
+  echo "error: $reference/replay/unison_golden is not built (scripts/build.sh builds it)" >&2
+  exit 2
+fi
 
 # Cross compiler and emulator (Debian: g++-aarch64-linux-gnu, qemu-user); clang for the clang build.
 scripts/setup.sh --determinism
@@ -36,30 +50,42 @@ builds=(
 if [ "$quick" = 1 ]; then
   builds=("${builds[1]}" "${builds[3]}" "${builds[4]}")
 fi
+if [ -n "$reference" ]; then
+  # The reference tree is the first row; its own build is not repeated.
+  rest=()
+  for spec in "${builds[@]}"; do [[ "$spec" == gcc-O2\|* ]] || rest+=("$spec"); done
+  builds=("reference|||||$reference" "${rest[@]}")
+fi
 
 names=()
 declare -A result
 scenes=()
 for spec in "${builds[@]}"; do
-  IFS='|' read -r name cxx opt extra runner <<<"$spec"
-  dir="$root/build-det-$name"
-  log="$dir/determinism.log"
-  mkdir -p "$dir"
-  echo "== $name: building" >&2
-  # A custom build type, so the optimisation level is exactly $opt (Release pins -O2 in CMakeLists.txt).
-  # shellcheck disable=SC2086
-  cc=${cxx/clang++/clang}
-  cc=${cc/g++/gcc}
-  if ! cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE=Det -DCMAKE_CXX_FLAGS_DET="$opt" -DCMAKE_CXX_COMPILER="$cxx" \
-        -DCMAKE_C_COMPILER="$cc" \
-        -DUNISON_MINIMAL=ON $extra >"$log" 2>&1 ||
-     ! cmake --build "$dir" -j2 --target unison_golden >>"$log" 2>&1; then
-    echo "error: build $name failed; see $log" >&2
-    exit 2
+  IFS='|' read -r name cxx opt extra runner tree <<<"$spec"
+  if [ -n "${tree:-}" ]; then
+    golden="$tree/replay/unison_golden"
+    echo "== $name: running the golden scenes of $golden" >&2
+  else
+    dir="$root/build-det-$name"
+    log="$dir/determinism.log"
+    golden="$dir/replay/unison_golden"
+    mkdir -p "$dir"
+    echo "== $name: building" >&2
+    # A custom build type, so the optimisation level is exactly $opt (Release pins -O2 in CMakeLists.txt).
+    cc=${cxx/clang++/clang}
+    cc=${cc/g++/gcc}
+    # shellcheck disable=SC2086
+    if ! cmake -S "$root" -B "$dir" -DCMAKE_BUILD_TYPE=Det -DCMAKE_CXX_FLAGS_DET="$opt" -DCMAKE_CXX_COMPILER="$cxx" \
+          -DCMAKE_C_COMPILER="$cc" \
+          -DUNISON_MINIMAL=ON $extra >"$log" 2>&1 ||
+       ! cmake --build "$dir" -j2 --target unison_golden >>"$log" 2>&1; then
+      echo "error: build $name failed; see $log" >&2
+      exit 2
+    fi
+    echo "== $name: running the golden scenes" >&2
   fi
-  echo "== $name: running the golden scenes" >&2
   # shellcheck disable=SC2086
-  if ! out=$($runner "$dir/replay/unison_golden"); then
+  if ! out=$($runner "$golden"); then
     echo "error: $name: unison_golden failed" >&2
     exit 2
   fi

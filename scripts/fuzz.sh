@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the fuzz targets of fuzz/ one after the other, each for a fixed time (or a fixed number of executions), in the
-# sanitizer tree build-asan/ (built here through scripts/sanitize.sh --build-only if needed).
+# sanitizer tree build-asan/ (its fuzz targets built here through scripts/sanitize.sh --build-fuzz if needed).
 #
 # Usage: scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]
 #   --seconds S   run each target S seconds (default 25: the CI setting)
@@ -22,7 +22,7 @@ targets=("$@")
 
 # Up to date after scripts/sanitize.sh (nothing to do); the build's output goes to a log unless it fails.
 mkdir -p build-asan
-scripts/sanitize.sh --build-only >build-asan/fuzz-build.log 2>&1 || { cat build-asan/fuzz-build.log; exit 2; }
+scripts/sanitize.sh --build-fuzz >build-asan/fuzz-build.log 2>&1 || { cat build-asan/fuzz-build.log; exit 2; }
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 

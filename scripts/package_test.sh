@@ -4,10 +4,19 @@
 # against the installed package once with find_package(unison) and once with pkg-config (shared library), and the
 # C example once more against the static library (pkg-config --static), runs them all and checks that every build
 # prints the same ray hit and state hash. Also checks the installed tool and builds the Debian package (cpack).
-# Usage: scripts/package_test.sh   (build folder: build-package/, kept; -j2)
+# Usage: scripts/package_test.sh              (build folder: build-package/, kept; -j2; about 6 min from scratch)
+#        scripts/package_test.sh --from DIR   (install and package an already built tree instead, e.g. build/ after
+#                                              scripts/test.sh: the same library and tool, built with the same
+#                                              Release flags; the default configuration is still configured in
+#                                              build-package/, but not built. About 1 min: what CI runs.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
+tree=build-package
+if [ "${1:-}" = "--from" ]; then
+  tree=${2:?usage: scripts/package_test.sh [--from BUILD_DIR]}
+  [ -f "$tree/CMakeCache.txt" ] || { echo "error: $tree is not a configured build folder" >&2; exit 2; }
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 prefix="$work/prefix"
@@ -21,10 +30,10 @@ for f in hello.cpp hello.c; do
   fi
 done
 
-echo "== configure, build and install the default configuration to $prefix" >&2
+echo "== configure the default configuration; build $tree and install it to $prefix" >&2
 cmake -S . -B build-package -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$prefix" >/dev/null
-cmake --build build-package -j2 >/dev/null
-cmake --install build-package >/dev/null
+cmake --build "$tree" -j2 >/dev/null
+cmake --install "$tree" --prefix "$prefix" >/dev/null
 "$prefix/bin/unison" --help >/dev/null
 
 echo "== the examples with find_package(unison)" >&2
@@ -61,8 +70,8 @@ if ldd "$work/hello_c_static" | grep -q libunison; then
 fi
 
 echo "== Debian package" >&2
-(cd build-package && cpack -G DEB >/dev/null)
-deb=$(ls build-package/unison_*.deb)
+(cd "$tree" && cpack -G DEB >/dev/null)
+deb=$(ls "$tree"/unison_*.deb)
 contents=$(dpkg-deb -c "$deb")
 for f in include/unison/unison.h include/unison/world3d.h cmake/unison/unisonConfig.cmake pkgconfig/unison.pc \
          libunison.so.0 libunison.a bin/unison; do

@@ -19,7 +19,7 @@ if [ -f build-tsan/CMakeCache.txt ] && ! grep -q "CMAKE_CXX_COMPILER:[A-Z]*=.*$(
   rm -rf build-tsan/CMakeCache.txt build-tsan/CMakeFiles
 fi
 cmake -S . -B build-tsan -DCMAKE_BUILD_TYPE=Tsan -DCMAKE_CXX_COMPILER="$cxx" \
-      -DCMAKE_CXX_FLAGS_TSAN="-O1 -g -fsanitize=thread" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" \
+      -DCMAKE_CXX_FLAGS_TSAN="-O1 -gline-tables-only -fsanitize=thread" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" \
       -DUNISON_BUILD_TESTS=ON -DUNISON_BUILD_BENCH=OFF -DUNISON_BUILD_SHARED=OFF >"$log" 2>&1 || { cat "$log"; exit 2; }
 cmake --build build-tsan -j2 --target unison_threads_tests >>"$log" 2>&1 || { tail -50 "$log"; exit 2; }
 # The build must really be instrumented: an uninstrumented binary would pass without checking anything.
