@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# The sanitizer jobs of CI (docs/input-policy.md "CI"): one clang Debug tree, build-asan/, with AddressSanitizer and
+# The sanitizer tree (docs/input-policy.md "CI": CI builds its fuzz targets through scripts/fuzz.sh; the whole suite
+# here runs before a release): one clang Debug tree, build-asan/, with AddressSanitizer and
 # UndefinedBehaviorSanitizer (-O1, every report fatal), warnings as errors in the project's own code, and the
 # fuzz targets' coverage instrumentation (so scripts/fuzz.sh reuses the same tree). Then:
-#   default          build, then run every doctest suite and the CLI under ASan+UBSan (ctest); about 17 min of
-#                    build and 12 min of tests on 2 cores (the tests run 15-20x slower than in Release)
+#   default          build, then run every doctest suite and the CLI under ASan+UBSan (ctest); with -O2 -g it took
+#                    17 min to build and 11-13 min to test on 2 cores (the tests run 15-20x slower than in Release)
 #   --build-only     only build
-#   --build-fuzz     only build the fuzz targets and the libraries they link (about 7 min; scripts/fuzz.sh)
+#   --build-fuzz     only build the fuzz targets and the libraries they link (about 5.5 min; scripts/fuzz.sh)
 # ThreadSanitizer has its own script and tree: scripts/tsan.sh (build-tsan/).
 # Uses -j2. Exit status: that of the build or of the tests.
 set -euo pipefail
