@@ -3,7 +3,7 @@
 # sanitizer tree build-asan/ (its fuzz targets built here through scripts/sanitize.sh --build-fuzz if needed).
 #
 # Usage: scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]
-#   --seconds S   run each target S seconds (default 25: the CI setting)
+#   --seconds S   run each target S seconds (default 25; .ci/run uses 10)
 #   --runs N      run each target for N executions instead (docs/input-policy.md lists the long runs)
 #   TARGET        scene2d scene3d lcp resolve inputs recording snapshot obj (default: all)
 # The seeds in fuzz/corpus/TARGET are copied to build-asan/fuzz-corpus/TARGET, where new inputs accumulate between

@@ -8,7 +8,7 @@
 #        scripts/package_test.sh --from DIR   (install and package an already built tree instead, e.g. build/ after
 #                                              scripts/test.sh: the same library and tool, built with the same
 #                                              Release flags; the default configuration is still configured in
-#                                              build-package/, but not built. About 1 min: what CI runs.)
+#                                              build-package/, but not built. About 10 s: what CI runs.)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
