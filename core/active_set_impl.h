@@ -247,6 +247,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         detail::GmresWorkspace gmres;
         int iterations = 0;
         bool solved = false;
+        // The last iteration's step came from `factor` (not from the pivoting LU): K, factor, state, freeUnknown and
+        // systemPos still describe its system (ActiveSetOptions::restVelocity uses them once more).
+        bool lastFactored = false;
         // Proximal term of phase 1, relative to each row's diagonal: 1e-4 at first, 10x smaller each time the states
         // repeat (the sub-problem is solved), down to 1e-7; phases 0 and 2 use 1e-6 with the centre at the iterate.
         constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
@@ -479,6 +482,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             }
             Eigen::VectorXd sol;
             bool stepFound = false;
+            lastFactored = false;
             {
                 triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
                 // Duplicates (a body twice in a row, a slipping contact's share) are summed. A system of the last
@@ -518,6 +522,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     stepFound = detail::gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL,
                                                    work);
                     if (stepFound) {
+                        lastFactored = true;
                         sol.resize(n);
                         for (int i = 0; i < ndof; ++i) sol[i] = ss[i];
                         for (int f = 0; f < nf; ++f) sol[ndof + f] = -ss[ndof + systemPos[std::size_t(f)]];
@@ -644,6 +649,79 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         }
         out.activeSet = true;
         out.warmFace = solved && phase == 0 && !out.interiorPoint;
+        // ActiveSetOptions::restVelocity: the impulses the next step needs on the same face if nothing but the
+        // velocities changes. Its LCP has b' = b + J (v+ - v_in) (the bodies come in with this answer's velocities
+        // v+ = v + M^-1 J^T p instead of v_in), so this answer carried unchanged reads u' = u + J (v+ - v_in); one
+        // more step of the last system (its factors, centre at the answer) takes that back.
+        if (settings.restVelocity && solved && lastFactored && settings.restVelocity->size() == std::size_t(3 * nb)) {
+            const std::vector<double>& vin = *settings.restVelocity;
+            velocities(x, up);  // mom: M^-1 J^T p per body
+            work += rowWork;
+            std::vector<double> change(std::size_t(3 * nb), 0.0);  // v+ - v_in
+            for (int k = 0; k < nb; ++k) {
+                if (dof[std::size_t(k)] < 0) continue;
+                const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+                const double now[3] = {B.velocity.x, B.velocity.y, B.angularVelocity};
+                for (int a = 0; a < 3; ++a) {
+                    const std::size_t i = std::size_t(3 * k + a);
+                    change[i] = now[a] + mom[i] - vin[i];
+                }
+            }
+            const int nf = int(freeUnknown.size());
+            const int ns = int(K.rows()) - ndof;
+            Eigen::VectorXd rv = Eigen::VectorXd::Zero(ndof + ns);
+            for (int f = 0; f < nf; ++f) {
+                const int unknown = freeUnknown[std::size_t(f)];
+                const detail::JacobianRow<D>& row = rowAt(unknown / 2, unknown % 2);
+                double jd = 0.0;
+                for (int s = 0; s < 2; ++s) {
+                    const int k = row.body[s];
+                    if (dof[std::size_t(k)] < 0) continue;
+                    jd += row.lin[s].x * change[std::size_t(3 * k)] + row.lin[s].y * change[std::size_t(3 * k + 1)] +
+                          row.ang[s] * change[std::size_t(3 * k + 2)];
+                }
+                rv[ndof + systemPos[std::size_t(f)]] = -(u[std::size_t(unknown)] + jd);
+            }
+            const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
+            Eigen::VectorXd ss;
+            if (detail::gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work)) {
+                std::vector<double> rest(x.size(), 0.0);
+                for (int c = 0; c < nc; ++c) {
+                    const std::uint8_t st = state[std::size_t(c)];
+                    if (st == kSeparated) continue;
+                    // ss holds q = -dp at each free unknown's place in the system; a slipping contact's p_t follows p_n.
+                    auto step = [&](int unknown) {
+                        return ss[ndof + systemPos[std::size_t(freeIndex[std::size_t(unknown)])]];
+                    };
+                    const double pn = x[std::size_t(2 * c)] - step(2 * c);
+                    rest[std::size_t(2 * c)] = pn;
+                    rest[std::size_t(2 * c + 1)] = st == kStick ? x[std::size_t(2 * c + 1)] - step(2 * c + 1)
+                                                                : (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)] * pn;
+                }
+                // Only a prediction that keeps the face: a loaded contact that would let go, or a sticking one that
+                // would leave its cone, by more than the impulse that moves its row by the tolerance, is the next
+                // step's iteration to find, and a warm start off the face costs more than the answer itself.
+                bool keepsFace = true;
+                for (int c = 0; c < nc && keepsFace; ++c) {
+                    const std::uint8_t st = state[std::size_t(c)];
+                    if (st == kSeparated) continue;
+                    const double pn = rest[std::size_t(2 * c)], pt = rest[std::size_t(2 * c + 1)];
+                    const double gt = diag[std::size_t(2 * c + 1)];
+                    keepsFace = (pn > 0.0 || x[std::size_t(2 * c)] <= tolAbs / diag[std::size_t(2 * c)]) &&
+                                (st != kStick || gt <= 0.0 ||
+                                 std::fabs(pt) <= sys.mu[std::size_t(c)] * pn + tolAbs / gt);
+                }
+                if (keepsFace) {
+                    project(rest);
+                    out.restImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+                    for (int c = 0; c < nc; ++c) {
+                        out.restImpulses.push_back(rest[std::size_t(2 * c)]);
+                        const typename D::Vec t = D::scale(rest[std::size_t(2 * c + 1)], sys.dirs[std::size_t(2 * c)]);
+                        for (int d = 0; d < D::kDim; ++d) out.restImpulses.push_back(t[d]);
+                    }
+                }
+            }
+        }
         out.message.clear();
         // The Stewart–Trinkle basis the answer stands on (the next step's warm guess): p_n > 0, the pushing tangent
         // direction, and the slack where the contact slips on the cone's rim.

@@ -216,6 +216,7 @@ private:
     struct alignas(64) Worker {
         LemkeSolver solver;
         std::vector<int> localIndex;  // dense body -> index in the island being solved (-1 outside)
+        std::vector<double> incoming;  // per island body: the velocity it brought into the step (solveIsland)
         IslandSetup setup;            // the island being solved
         PgsScratch<D> pgs;            // the approximation's working arrays
         SymmetricPatternCache patterns;  // the active-set path's analyses of recent steps' system patterns
