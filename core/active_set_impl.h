@@ -248,7 +248,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         int iterations = 0;
         bool solved = false;
         // The last iteration's step came from `factor` (not from the pivoting LU): K, factor, state, freeUnknown and
-        // systemPos still describe its system (ActiveSetOptions::restVelocity uses them once more).
+        // systemPos still describe its system (ActiveSetOptions::incomingVelocity uses them once more).
         bool lastFactored = false;
         // Proximal term of phase 1, relative to each row's diagonal: 1e-4 at first, 10x smaller each time the states
         // repeat (the sub-problem is solved), down to 1e-7; phases 0 and 2 use 1e-6 with the centre at the iterate.
@@ -649,12 +649,12 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         }
         out.activeSet = true;
         out.warmFace = solved && phase == 0 && !out.interiorPoint;
-        // ActiveSetOptions::restVelocity: the impulses the next step needs on the same face if nothing but the
+        // ActiveSetOptions::incomingVelocity: the impulses the next step needs on the same face if nothing but the
         // velocities changes. Its LCP has b' = b + J (v+ - v_in) (the bodies come in with this answer's velocities
         // v+ = v + M^-1 J^T p instead of v_in), so this answer carried unchanged reads u' = u + J (v+ - v_in); one
         // more step of the last system (its factors, centre at the answer) takes that back.
-        if (settings.restVelocity && solved && lastFactored && settings.restVelocity->size() == std::size_t(3 * nb)) {
-            const std::vector<double>& vin = *settings.restVelocity;
+        if (settings.incomingVelocity && solved && lastFactored && settings.incomingVelocity->size() == std::size_t(3 * nb)) {
+            const std::vector<double>& vin = *settings.incomingVelocity;
             velocities(x, up);  // mom: M^-1 J^T p per body
             work += rowWork;
             std::vector<double> change(std::size_t(3 * nb), 0.0);  // v+ - v_in
@@ -685,7 +685,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
             Eigen::VectorXd ss;
             if (detail::gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work)) {
-                std::vector<double> rest(x.size(), 0.0);
+                std::vector<double> next(x.size(), 0.0);
                 for (int c = 0; c < nc; ++c) {
                     const std::uint8_t st = state[std::size_t(c)];
                     if (st == kSeparated) continue;
@@ -694,8 +694,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         return ss[ndof + systemPos[std::size_t(freeIndex[std::size_t(unknown)])]];
                     };
                     const double pn = x[std::size_t(2 * c)] - step(2 * c);
-                    rest[std::size_t(2 * c)] = pn;
-                    rest[std::size_t(2 * c + 1)] = st == kStick ? x[std::size_t(2 * c + 1)] - step(2 * c + 1)
+                    next[std::size_t(2 * c)] = pn;
+                    next[std::size_t(2 * c + 1)] = st == kStick ? x[std::size_t(2 * c + 1)] - step(2 * c + 1)
                                                                 : (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)] * pn;
                 }
                 // Only a prediction that keeps the face: a loaded contact that would let go, or a sticking one that
@@ -705,19 +705,19 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 for (int c = 0; c < nc && keepsFace; ++c) {
                     const std::uint8_t st = state[std::size_t(c)];
                     if (st == kSeparated) continue;
-                    const double pn = rest[std::size_t(2 * c)], pt = rest[std::size_t(2 * c + 1)];
+                    const double pn = next[std::size_t(2 * c)], pt = next[std::size_t(2 * c + 1)];
                     const double gt = diag[std::size_t(2 * c + 1)];
                     keepsFace = (pn > 0.0 || x[std::size_t(2 * c)] <= tolAbs / diag[std::size_t(2 * c)]) &&
                                 (st != kStick || gt <= 0.0 ||
                                  std::fabs(pt) <= sys.mu[std::size_t(c)] * pn + tolAbs / gt);
                 }
                 if (keepsFace) {
-                    project(rest);
-                    out.restImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+                    project(next);
+                    out.predictedImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
                     for (int c = 0; c < nc; ++c) {
-                        out.restImpulses.push_back(rest[std::size_t(2 * c)]);
-                        const typename D::Vec t = D::scale(rest[std::size_t(2 * c + 1)], sys.dirs[std::size_t(2 * c)]);
-                        for (int d = 0; d < D::kDim; ++d) out.restImpulses.push_back(t[d]);
+                        out.predictedImpulses.push_back(next[std::size_t(2 * c)]);
+                        const typename D::Vec t = D::scale(next[std::size_t(2 * c + 1)], sys.dirs[std::size_t(2 * c)]);
+                        for (int d = 0; d < D::kDim; ++d) out.predictedImpulses.push_back(t[d]);
                     }
                 }
             }

@@ -109,10 +109,10 @@ struct Resolution {
     std::vector<double> impulses;  ///< normal impulse magnitude f_i per contact node (N s)
     std::vector<double> tangentImpulses;  ///< friction solves only: (contacts x dimension) world-frame vectors
     std::vector<int> basis;        ///< Lemke basis, to warm-start the next solve
-    /// Active-set answers with ActiveSetOptions::restVelocity: per contact the normal impulse, then the D::kDim
+    /// Active-set answers with ActiveSetOptions::incomingVelocity: per contact the normal impulse, then the D::kDim
     /// friction-impulse components (world frame), that the next step needs on the same face if only the bodies'
     /// velocities change (empty when not computed). What a world carries to the next step's warm start.
-    std::vector<double> restImpulses;
+    std::vector<double> predictedImpulses;
     std::string message;
 };
 
@@ -198,12 +198,12 @@ struct ActiveSetOptions {
     bool reuseSupersetPattern = false;
     /// Per body (ioBodies' order) the velocity it brought into the step, before this step's external forces (2D:
     /// vx, vy, omega; for a body the step does not accelerate, its velocity). When set and the answer is certified
-    /// after an iteration factored its system, Resolution::restImpulses predicts the next step's impulses: the
+    /// after an iteration factored its system, Resolution::predictedImpulses predicts the next step's impulses: the
     /// answer also stops the velocity v_in the bodies came in with, so carried unchanged it meets the next step's
     /// problem (bodies at v+) with the velocity error J (v+ - v_in), and a settled pile then alternates between
     /// accepting its warm start and re-solving. One more solve with the last factors takes that share out; a
     /// prediction that would release a contact or leave a cone is not made (docs/solver.md, "Settled islands").
-    const std::vector<double>* restVelocity = nullptr;
+    const std::vector<double>* incomingVelocity = nullptr;
 };
 
 /// The friction LCP of resolveWithFriction by an active-set (semismooth Newton) iteration in body space, started

@@ -31,7 +31,7 @@ struct ContactKey {
     /// unknown; always 0 after a step without a budget).
     std::uint32_t cost = 0;
     /// The next step's warm impulses: those applied, or for an island the active-set path answered (2D, fewer
-    /// than kPathFirstContacts contacts) its prediction for the next step (Resolution::restImpulses).
+    /// than kPathFirstContacts contacts) its prediction for the next step (Resolution::predictedImpulses).
     double normalImpulse = 0.0;               ///< N s
     double tangentImpulse[3] = {0.0, 0.0, 0.0};  ///< N s, world frame (2D: z is 0)
     /// Order by (slotA, slotB, shapeA, shapeB, feature); the mask is not part of the key.

@@ -234,7 +234,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             }
             // With a budget the path stops at what is left of the island's grant, as Lemke does.
             if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
-            // The cache carries this answer's prediction for the next step (ActiveSetOptions::restVelocity), which
+            // The cache carries this answer's prediction for the next step (ActiveSetOptions::incomingVelocity), which
             // needs the velocity each body brought into the step: its velocity before this step's gravity (dynamic
             // bodies; the others keep moving as they do). Big islands carry the answer itself: on Box2D v3's 40-row
             // large pyramid the prediction cost 12 % more instructions over 300 steps (docs/solver-notes.md).
@@ -251,7 +251,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                         incoming[3 * kk + 1] = v.y;
                         incoming[3 * kk + 2] = B.angularVelocity;
                     }
-                    fastOptions.restVelocity = &incoming;
+                    fastOptions.incomingVelocity = &incoming;
                 }
             }
             ResolverOptions pathOptions = options;
@@ -336,10 +336,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         key.cost = cost;
         key.normalImpulse = c.normalImpulse;
         for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = c.tangentImpulse[d];
-        if (!r.restImpulses.empty()) {  // the next step's warm start: the load without this step's stopping share
-            const double* rest = &r.restImpulses[std::size_t(ci) * std::size_t(1 + D::kDim)];
-            key.normalImpulse = rest[0];
-            for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = rest[1 + d];
+        if (!r.predictedImpulses.empty()) {  // the next step's warm start: the answer's prediction for it
+            const double* next = &r.predictedImpulses[std::size_t(ci) * std::size_t(1 + D::kDim)];
+            key.normalImpulse = next[0];
+            for (int d = 0; d < D::kDim; ++d) key.tangentImpulse[d] = next[1 + d];
         }
         keys.push_back(key);
     }

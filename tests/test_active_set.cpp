@@ -173,7 +173,7 @@ TEST_CASE("active-set path: a resting wall of boxes from a cold start is certifi
     CHECK(cache.hits() >= cache.size());  // every pattern of the second call was met in the first
 }
 
-TEST_CASE("active-set path: restVelocity predicts the next step's impulses of a settled wall") {
+TEST_CASE("active-set path: incomingVelocity predicts the next step's impulses of a settled wall") {
     // A 4 x 4 wall whose boxes come in falling at 1e-6 m/s (a settled pile's velocity error) before this step's
     // gravity. The answer stops them: the ground carries 16 boxes x (g dt + 1e-6) N s. The prediction is the load
     // alone (16 g dt): the next step's problem (bodies at rest, then gravity) is certified by it as it stands, while
@@ -187,24 +187,24 @@ TEST_CASE("active-set path: restVelocity predicts the next step's impulses of a 
     options.frictionDirections = 2;
     const std::vector<double> cold(wall.contacts.size() * 3, 0.0);
     ActiveSetOptions predict;
-    predict.restVelocity = &incoming;
+    predict.incomingVelocity = &incoming;
     std::vector<Body2> bodies = wall.bodies, plainBodies = wall.bodies;
     const Resolution r = resolveActiveSet(bodies, wall.contacts, cold, options, predict);
     const Resolution plain = resolveActiveSet(plainBodies, wall.contacts, cold, options, ActiveSetOptions{});
     REQUIRE(r.status == LcpStatus::solved);
     REQUIRE(plain.status == LcpStatus::solved);
-    CHECK(plain.restImpulses.empty());
+    CHECK(plain.predictedImpulses.empty());
     // The prediction changes nothing of the answer.
     REQUIRE(r.impulses.size() == plain.impulses.size());
     CHECK(std::memcmp(r.impulses.data(), plain.impulses.data(), r.impulses.size() * sizeof(double)) == 0);
     CHECK(std::memcmp(r.tangentImpulses.data(), plain.tangentImpulses.data(),
                       r.tangentImpulses.size() * sizeof(double)) == 0);
-    REQUIRE(r.restImpulses.size() == 3 * wall.contacts.size());
+    REQUIRE(r.predictedImpulses.size() == 3 * wall.contacts.size());
     double ground = 0.0, groundRest = 0.0;
     for (std::size_t c = 0; c < wall.contacts.size(); ++c) {
         if (wall.contacts[c].b != 0) continue;
         ground += r.impulses[c];
-        groundRest += r.restImpulses[3 * c];
+        groundRest += r.predictedImpulses[3 * c];
     }
     CHECK(ground == doctest::Approx(16.0 * (g * dt + slow)).epsilon(1e-10));
     CHECK(groundRest == doctest::Approx(16.0 * g * dt).epsilon(1e-10));
@@ -221,7 +221,7 @@ TEST_CASE("active-set path: restVelocity predicts the next step's impulses of a 
         carried.push_back(r.tangentImpulses[2 * c + 1]);
     }
     std::vector<Body2> a = next, b = next;
-    const Resolution fromPrediction = resolveActiveSet(a, wall.contacts, r.restImpulses, options, ActiveSetOptions{});
+    const Resolution fromPrediction = resolveActiveSet(a, wall.contacts, r.predictedImpulses, options, ActiveSetOptions{});
     const Resolution fromAnswer = resolveActiveSet(b, wall.contacts, carried, options, ActiveSetOptions{});
     REQUIRE(fromPrediction.status == LcpStatus::solved);
     REQUIRE(fromAnswer.status == LcpStatus::solved);
