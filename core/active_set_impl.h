@@ -685,8 +685,12 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
             Eigen::VectorXd ss;
             if (detail::gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work)) {
+                // Only a prediction that keeps the face: a loaded contact that would let go, or a sticking one that
+                // would leave its cone, by more than the impulse that moves its row by the tolerance, is the next
+                // step's iteration to find, and a warm start off the face costs more than the answer itself.
                 std::vector<double> next(x.size(), 0.0);
-                for (int c = 0; c < nc; ++c) {
+                bool keepsFace = true;
+                for (int c = 0; c < nc && keepsFace; ++c) {
                     const std::uint8_t st = state[std::size_t(c)];
                     if (st == kSeparated) continue;
                     // ss holds q = -dp at each free unknown's place in the system; a slipping contact's p_t follows p_n.
@@ -694,18 +698,10 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         return ss[ndof + systemPos[std::size_t(freeIndex[std::size_t(unknown)])]];
                     };
                     const double pn = x[std::size_t(2 * c)] - step(2 * c);
+                    const double pt = st == kStick ? x[std::size_t(2 * c + 1)] - step(2 * c + 1)
+                                                   : (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)] * pn;
                     next[std::size_t(2 * c)] = pn;
-                    next[std::size_t(2 * c + 1)] = st == kStick ? x[std::size_t(2 * c + 1)] - step(2 * c + 1)
-                                                                : (st == kSlipPlus ? 1.0 : -1.0) * sys.mu[std::size_t(c)] * pn;
-                }
-                // Only a prediction that keeps the face: a loaded contact that would let go, or a sticking one that
-                // would leave its cone, by more than the impulse that moves its row by the tolerance, is the next
-                // step's iteration to find, and a warm start off the face costs more than the answer itself.
-                bool keepsFace = true;
-                for (int c = 0; c < nc && keepsFace; ++c) {
-                    const std::uint8_t st = state[std::size_t(c)];
-                    if (st == kSeparated) continue;
-                    const double pn = next[std::size_t(2 * c)], pt = next[std::size_t(2 * c + 1)];
+                    next[std::size_t(2 * c + 1)] = pt;
                     const double gt = diag[std::size_t(2 * c + 1)];
                     keepsFace = (pn > 0.0 || x[std::size_t(2 * c)] <= tolAbs / diag[std::size_t(2 * c)]) &&
                                 (st != kStick || gt <= 0.0 ||
