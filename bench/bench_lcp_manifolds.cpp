@@ -21,9 +21,10 @@
 namespace unison::bench {
 
 // ---- Unison's fast path ------------------------------------------------------------------------------------------
-// The "fast" column is what a world does with such an island: the active-set path (resolveActiveSet) from a cold
-// start on the snapshot's bodies and contact nodes, Lemke (with its robust path) when it does not certify its
-// answer. The active-set path works on the bodies, so a float-assembled member, which has none, goes to Lemke
+// The "fast" column is the active-set path (resolveActiveSet with its default options) from a cold start on the
+// snapshot's bodies and contact nodes, which begins with the interior-point answer of the convex relaxation (as a
+// world's islands of kPathFirstContacts or more do), then Lemke (with its robust path) when the path does not certify
+// its answer. The active-set path works on the bodies, so a float-assembled member, which has none, goes to Lemke
 // directly. The answer is returned as the member's z (friction: [normals | +t, -t per contact | slacks]).
 LcpResult unisonFastPath(LemkeSolver& solver, const ManifoldLcp& m, const ManifoldSnapshot& snap,
                          const LcpOptions& options, bool* usedActiveSet) {
@@ -49,7 +50,10 @@ LcpResult unisonFastPath(LemkeSolver& solver, const ManifoldLcp& m, const Manifo
     if (m.friction) {
         for (int c = 0; c < nc; ++c) {
             const Vec2 t{r.tangentImpulses[std::size_t(2 * c)], r.tangentImpulses[std::size_t(2 * c + 1)]};
-            const double pt = dot(t, frictionDirections(contacts[std::size_t(c)], 2)[0]);
+            // The answer's friction impulse is p_t times the tangent direction, which is as long as the normal:
+            // Box2D's float normals are unit only to ~1e-7, so p_t = (t . d) / (d . d), not t . d.
+            const Vec2 dir = frictionDirections(contacts[std::size_t(c)], 2)[0];
+            const double pt = dot(t, dir) / dot(dir, dir);
             out.z[std::size_t(nc + 2 * c)] = std::max(pt, 0.0);
             out.z[std::size_t(nc + 2 * c + 1)] = std::max(-pt, 0.0);
         }

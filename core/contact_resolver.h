@@ -179,9 +179,9 @@ struct ActiveSetOptions {
     SymmetricPatternCache* patternCache = nullptr;
     /// Buffers and the last system kept between calls (nullptr: none); it changes the cost, never the answer.
     ActiveSetScratch* scratch = nullptr;
-    /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
-    /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
-    /// convex relaxation (docs/solver.md).
+    /// Start a cold solve (every warm impulse 0) from the interior-point answer of the problem's convex relaxation;
+    /// and when the warm start's face does not hold and its best iterate is far from an answer (more than 10
+    /// tolerances), or the warm start itself is (more than 1000), restart once from it (docs/solver.md).
     bool interiorPoint = true;
     /// When > 0: a solve whose phase 0 (the warm start's face) ends uncertified with its best iterate within this
     /// many tolerances, and within options.acceptResidual, ends there as a near miss instead of running phases 1

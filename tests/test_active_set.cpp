@@ -173,6 +173,43 @@ TEST_CASE("active-set path: a resting wall of boxes from a cold start is certifi
     CHECK(cache.hits() >= cache.size());  // every pattern of the second call was met in the first
 }
 
+TEST_CASE("active-set path: a cold start begins with the interior-point answer") {
+    // A 10 x 10 wall from zero impulses: with the interior-point start (the default) the answer of the convex
+    // relaxation is certified as it stands, with no system of the path factored; without it the primal-dual
+    // iteration factors the whole system from the zero impulses. Both answers are certified on the assembled LCP and
+    // stop the wall. (On this small wall one such factorisation is enough and costs less; on big piles the
+    // interior-point start does: the world test of the base-20 large pyramid below, and docs/solver.md.)
+    const Wall wall = restingWall(10, 10, 0.6);
+    ResolverOptions options;
+    options.frictionDirections = 2;
+    const std::vector<double> cold(wall.contacts.size() * 3, 0.0);
+    ActiveSetOptions primalDual;
+    primalDual.interiorPoint = false;
+    std::vector<Body2> ipBodies = wall.bodies, pdBodies = wall.bodies;
+    const Resolution ip = resolveActiveSet(ipBodies, wall.contacts, cold, options, ActiveSetOptions{});
+    const Resolution pd = resolveActiveSet(pdBodies, wall.contacts, cold, options, primalDual);
+    REQUIRE(ip.status == LcpStatus::solved);
+    REQUIRE(pd.status == LcpStatus::solved);
+    CHECK(ip.interiorPoint);
+    CHECK_FALSE(pd.interiorPoint);
+    MESSAGE("cold 10 x 10 wall: work " << ip.work << " from the interior-point answer, " << pd.work
+                                       << " by the primal-dual iteration; analyses " << ip.patternAnalyses << " and "
+                                       << pd.patternAnalyses);
+    CHECK(ip.patternAnalyses == 0);  // no system of the path was factored
+    CHECK(pd.patternAnalyses > 0);
+    CHECK(assembledResidual(wall.bodies, wall.contacts, ip, options) <= options.lcp.residualTolerance + 1e-13);
+    CHECK(assembledResidual(wall.bodies, wall.contacts, pd, options) <= options.lcp.residualTolerance + 1e-13);
+    double ground = 0.0;
+    for (std::size_t c = 0; c < wall.contacts.size(); ++c)
+        if (wall.contacts[c].b == 0) ground += ip.impulses[c];
+    CHECK(ground == doctest::Approx(100.0 / 6.0).epsilon(1e-9));  // 100 boxes of 1 kg, 10 m/s^2, 1/60 s
+    for (std::size_t k = 1; k < ipBodies.size(); ++k) {
+        CHECK(std::fabs(ipBodies[k].velocity.x) <= 1e-8);
+        CHECK(std::fabs(ipBodies[k].velocity.y) <= 1e-8);
+        CHECK(std::fabs(ipBodies[k].angularVelocity) <= 1e-8);
+    }
+}
+
 TEST_CASE("active-set path: incomingVelocity predicts the next step's impulses of a settled wall") {
     // A 4 x 4 wall whose boxes come in falling at 1e-6 m/s (a settled pile's velocity error) before this step's
     // gravity. The answer stops them: the ground carries 16 boxes x (g dt + 1e-6) N s. The prediction is the load
@@ -186,11 +223,14 @@ TEST_CASE("active-set path: incomingVelocity predicts the next step's impulses o
     ResolverOptions options;
     options.frictionDirections = 2;
     const std::vector<double> cold(wall.contacts.size() * 3, 0.0);
-    ActiveSetOptions predict;
+    // The prediction needs the factors of the path's last iteration: this cold start takes the primal-dual
+    // iteration (with the interior-point start, the interior-point answer is certified as it stands and there are none).
+    ActiveSetOptions predict, noPrediction;
     predict.incomingVelocity = &incoming;
+    predict.interiorPoint = noPrediction.interiorPoint = false;
     std::vector<Body2> bodies = wall.bodies, plainBodies = wall.bodies;
     const Resolution r = resolveActiveSet(bodies, wall.contacts, cold, options, predict);
-    const Resolution plain = resolveActiveSet(plainBodies, wall.contacts, cold, options, ActiveSetOptions{});
+    const Resolution plain = resolveActiveSet(plainBodies, wall.contacts, cold, options, noPrediction);
     REQUIRE(r.status == LcpStatus::solved);
     REQUIRE(plain.status == LcpStatus::solved);
     CHECK(plain.predictedImpulses.empty());
@@ -263,7 +303,12 @@ TEST_CASE("active-set path: a scratch kept across solves gives the bits of solve
         std::vector<double>& warm = useOther ? otherWarm : bigWarm;
         const std::vector<double> start = call == 2 || call == 6 || call == 7 ? farWarmStart(wall) : warm;
         std::vector<Body2> plain = wall.bodies, withScratch = wall.bodies;
-        const Resolution a = resolveActiveSet(plain, wall.contacts, start, options, ActiveSetOptions{});
+        // Cold starts take the primal-dual iteration, whose systems the scratch keeps; the others may restart from
+        // the interior-point answer, whose system it keeps too.
+        const bool cold = std::all_of(start.begin(), start.end(), [](double v) { return v == 0.0; });
+        ActiveSetOptions none;
+        none.interiorPoint = kept.interiorPoint = !cold;
+        const Resolution a = resolveActiveSet(plain, wall.contacts, start, options, none);
         const Resolution b = resolveActiveSet(withScratch, wall.contacts, start, options, kept);
         REQUIRE(a.status == b.status);
         REQUIRE(a.impulses.size() == b.impulses.size());
@@ -583,7 +628,10 @@ TEST_CASE("Box2D v3's large pyramid (base 20) starts cold on the active-set path
     for (int i = 0; i < 90; ++i) {
         scene.world->step();
         const auto& s = scene.world->stats();
-        if (i == 0) CHECK(s.activeSetIslands == 1);
+        if (i == 0) {
+            CHECK(s.activeSetIslands == 1);
+            CHECK(s.interiorPointRestarts == 1);  // the cold start begins with the interior-point answer
+        }
         activeSet += s.activeSetIslands;
         failed += s.failedIslands;
         inexact += s.acceptedInexact;
