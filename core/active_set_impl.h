@@ -274,10 +274,11 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         // active-set iteration proper, 2 refines on the face of the best iterate of phase 1. A cold start (no
         // impulse) has no face worth refining (every touching contact would slip at p = 0) and begins with phase 1.
         const bool cold = std::all_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
-        // With the interior-point start, a cold start goes to it before anything else (limit 0 ends phase 0 at
-        // once): the primal-dual iteration from zero impulses takes 12-16 factorisations of the whole system on a
-        // resting pile, the interior-point answer 10-13 of the bodies' system and usually certifies as it stands.
-        const bool coldInterior = cold && settings.interiorPoint;
+        // ActiveSetOptions::coldInteriorPoint: a cold start goes to the interior-point answer before anything else
+        // (limit 0 ends phase 0 at once). The primal-dual iteration from zero impulses takes 12-16 factorisations of
+        // the whole system on a resting pile; the interior-point answer takes 10-13 of the bodies' system and usually
+        // certifies as it stands.
+        const bool coldInterior = cold && settings.interiorPoint && settings.coldInteriorPoint;
         int phase = cold && !coldInterior ? 1 : 0;
         bool polish = !cold || coldInterior;
         int limit = coldInterior ? 0 : cold ? settings.maxIterations : kPolish;

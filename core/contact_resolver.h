@@ -179,10 +179,14 @@ struct ActiveSetOptions {
     SymmetricPatternCache* patternCache = nullptr;
     /// Buffers and the last system kept between calls (nullptr: none); it changes the cost, never the answer.
     ActiveSetScratch* scratch = nullptr;
-    /// Start a cold solve (every warm impulse 0) from the interior-point answer of the problem's convex relaxation;
-    /// and when the warm start's face does not hold and its best iterate is far from an answer (more than 10
-    /// tolerances), or the warm start itself is (more than 1000), restart once from it (docs/solver.md).
+    /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
+    /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
+    /// convex relaxation (docs/solver.md).
     bool interiorPoint = true;
+    /// With interiorPoint: a cold start (every warm impulse 0) begins with the interior-point answer instead of the
+    /// primal-dual iteration from zero impulses. It certifies contact LCPs that the iteration from zero does not
+    /// (Box2D's manifolds of settled pyramids); a world's islands go without it (docs/solver.md, "Landing piles").
+    bool coldInteriorPoint = true;
     /// When > 0: a solve whose phase 0 (the warm start's face) ends uncertified with its best iterate within this
     /// many tolerances, and within options.acceptResidual, ends there as a near miss instead of running phases 1
     /// and 2 (which change the face; a miss this close is the face's numerical floor, not a wrong face).

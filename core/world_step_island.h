@@ -225,6 +225,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             fastOptions.patternCache = &worker.patterns;
             fastOptions.scratch = &worker.activeSet;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
+            // A big island's cold first step takes the primal-dual iteration from zero impulses: from the
+            // interior-point answer Box2D v3's 100-row large pyramid's first step took 1.4-2.0 s instead of 3.6-4.2,
+            // but its next 149 steps 16 % more work (docs/solver-notes.md).
+            fastOptions.coldInteriorPoint = false;
             // A big island's iterations are factorisations of thousands of unknowns: a near miss at the floor of
             // the warm start's face ends there (kFloorExit, step_support.h).
             if (bigIsland) {

@@ -5,7 +5,8 @@
 # Usage: scripts/fuzz.sh [--seconds S | --runs N] [TARGET...]
 #   --seconds S   run each target S seconds (default 25; .ci/run uses 10)
 #   --runs N      run each target for N executions instead (docs/input-policy.md lists the long runs)
-#   TARGET        scene2d scene3d lcp resolve inputs recording snapshot obj (default: all)
+#   TARGET        a target of fuzz/CMakeLists.txt without its fuzz_ prefix, e.g. scene2d or lcp (default: all of
+#                 them, as listed in build-asan/fuzz/targets.txt)
 # The seeds in fuzz/corpus/TARGET are copied to build-asan/fuzz-corpus/TARGET, where new inputs accumulate between
 # runs (the repository's corpus stays small). A finding (crash, sanitizer report, leak, timeout, out-of-memory) is
 # saved in build-asan/fuzz-findings/TARGET/ and makes the script exit 1 after all targets ran.
@@ -18,11 +19,11 @@ limit=(-max_total_time=25)
 if [ "${1:-}" = "--seconds" ]; then limit=(-max_total_time="$2"); shift 2; fi
 if [ "${1:-}" = "--runs" ]; then limit=(-runs="$2"); shift 2; fi
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(scene2d scene3d lcp resolve inputs recording snapshot obj)
 
 # Up to date after scripts/sanitize.sh (nothing to do); the build's output goes to a log unless it fails.
 mkdir -p build-asan
 scripts/sanitize.sh --build-fuzz >build-asan/fuzz-build.log 2>&1 || { cat build-asan/fuzz-build.log; exit 2; }
+[ ${#targets[@]} -eq 0 ] && mapfile -t targets < build-asan/fuzz/targets.txt
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 

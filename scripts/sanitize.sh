@@ -22,8 +22,7 @@ cmake -S . -B build-asan "${common[@]}" -DUNISON_BUILD_FUZZ=ON \
   -DCMAKE_CXX_FLAGS_DEBUG=-gline-tables-only -DCMAKE_C_FLAGS_DEBUG=-gline-tables-only \
   >/dev/null
 if [ "${1:-}" = "--build-fuzz" ]; then
-  cmake --build build-asan -j2 --target fuzz_scene2d fuzz_scene3d fuzz_lcp fuzz_resolve fuzz_inputs fuzz_recording \
-    fuzz_snapshot fuzz_obj
+  cmake --build build-asan -j2 --target fuzz_targets  # every target of fuzz/CMakeLists.txt
   exit 0
 fi
 cmake --build build-asan -j2

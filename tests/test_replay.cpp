@@ -41,7 +41,7 @@ const Golden kGolden[] = {
     {"mixed_pile", 300, 0x5e0fb21df4d238c2ull, 0xd30e0b5e98a0fcbdull},
     {"cradle", 120, 0x59d204f6a0c9eeeeull, 0x35f3da5d91b54a78ull},
     {"pyramid16", 120, 0x27bdfe9e634f451dull, 0x207bb12bad7cf146ull},
-    {"large_pyramid24", 30, 0x23b783ebaf8f4afcull, 0xd61cf4df72246820ull},
+    {"large_pyramid24", 30, 0xb78e29bed505b7abull, 0x8f28dd27e8abe96full},
     {"pyramid24_landing", 100, 0x48200c21955472eaull, 0xb1326cc003bec3e9ull},
     {"box_heap3d", 180, 0xb7c77e83c4a1aadbull, 0xbd4a1d7c999ba77cull},
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
