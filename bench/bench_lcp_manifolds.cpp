@@ -23,7 +23,8 @@ namespace unison::bench {
 // ---- Unison's fast path ------------------------------------------------------------------------------------------
 // The "fast" column is the active-set path (resolveActiveSet with its default options) from a cold start on the
 // snapshot's bodies and contact nodes, which begins with the interior-point answer of the convex relaxation
-// (ActiveSetOptions::coldInteriorPoint), then Lemke (with its robust path) when the path does not certify its answer. The active-set path works on the bodies, so a float-assembled member, which has none, goes to Lemke
+// (ActiveSetOptions::coldInteriorPoint), then Lemke (with its robust path) when the path does not certify its
+// answer. The active-set path works on the bodies, so a float-assembled member, which has none, goes to Lemke
 // directly. The answer is returned as the member's z (friction: [normals | +t, -t per contact | slacks]).
 LcpResult unisonFastPath(LemkeSolver& solver, const ManifoldLcp& m, const ManifoldSnapshot& snap,
                          const LcpOptions& options, bool* usedActiveSet) {
