@@ -724,8 +724,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             }
         }
         out.message.clear();
-        // The Stewart–Trinkle basis the answer stands on (the next step's warm guess): p_n > 0, the pushing tangent
-        // direction, and the slack where the contact slips on the cone's rim.
+        // The Stewart–Trinkle basis the answer stands on (the next step's warm guess), in increasing order: p_n > 0
+        // (unknowns c), the pushing tangent direction (nc + 2c or nc + 2c + 1), and the slack where the contact slips
+        // on the cone's rim (3 nc + c).
         out.impulses.resize(std::size_t(nc));
         std::vector<typename D::Vec> tangent(static_cast<std::size_t>(nc), D::zeroVec());
         for (int c = 0; c < nc; ++c) {
@@ -733,12 +734,17 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             out.impulses[std::size_t(c)] = pn;
             tangent[std::size_t(c)] = D::scale(pt, sys.dirs[std::size_t(2 * c)]);
             if (pn > 0.0) out.basis.push_back(c);
+        }
+        for (int c = 0; c < nc; ++c) {
+            const double pt = x[std::size_t(2 * c + 1)];
             if (pt > 0.0) out.basis.push_back(nc + 2 * c);
             if (pt < 0.0) out.basis.push_back(nc + 2 * c + 1);
+        }
+        for (int c = 0; c < nc; ++c) {
+            const double pn = x[std::size_t(2 * c)], pt = x[std::size_t(2 * c + 1)];
             if (pn > 0.0 && std::fabs(pt) >= sys.mu[std::size_t(c)] * pn && u[std::size_t(2 * c + 1)] != 0.0)
                 out.basis.push_back(3 * nc + c);
         }
-        std::sort(out.basis.begin(), out.basis.end());
         for (const auto& t : tangent) {
             for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(t[d]);
         }

@@ -95,6 +95,9 @@ public:
         }
         const std::size_t outer = std::size_t(a.outerSize()) + 1, inner = std::size_t(a.nonZeros());
         const std::size_t size = analysis->bytes() + sizeof(int) * (outer + inner) + sizeof(Entry);
+        // Room is made first from the entries that only the longer keeping of small ones has left (those the
+        // kKeepGenerations rule would have dropped at the end of the last generation).
+        if (bytes_ + size > maxBytes_) dropUnusedFor(kKeepGenerations + 1);
         if (bytes_ + size > maxBytes_) return analysis;
         Entry& e = entries_[key];
         e.outer.assign(a.outerIndexPtr(), a.outerIndexPtr() + outer);
@@ -112,11 +115,17 @@ public:
         if (it != entries_.end() && it->second.analysis.get() == analysis) it->second.generation = generation_;
     }
     /// Ends a generation: drops the entries that no analysisOf call used in it nor in the kKeepGenerations - 1 before
-    /// it (a settled pile can alternate between two faces, so a pattern may return every other step).
+    /// it (a settled pile can alternate between two faces, so a pattern may return every other step). Entries of at
+    /// most kSmallEntryBytes (islands of a few hundred contacts) stay kKeepSmallGenerations: the faces of a settled
+    /// small pile come back after tens of steps, and an analysis costs several of its factorisations there.
     static constexpr std::uint64_t kKeepGenerations = 4;
+    static constexpr std::uint64_t kKeepSmallGenerations = 64;
+    static constexpr std::size_t kSmallEntryBytes = std::size_t(1) << 20;
     void nextGeneration() {
         for (auto it = entries_.begin(); it != entries_.end();) {
-            if (generation_ - it->second.generation >= kKeepGenerations) {
+            const std::uint64_t keep =
+                it->second.bytes <= kSmallEntryBytes ? kKeepSmallGenerations : kKeepGenerations;
+            if (generation_ - it->second.generation >= keep) {
                 bytes_ -= it->second.bytes;
                 it = entries_.erase(it);
             } else {
@@ -131,6 +140,17 @@ public:
     std::uint64_t misses() const { return misses_; }
 
 private:
+    // Drops the entries unused in the current generation and the `generations` - 1 before it.
+    void dropUnusedFor(std::uint64_t generations) {
+        for (auto it = entries_.begin(); it != entries_.end();) {
+            if (generation_ - it->second.generation >= generations) {
+                bytes_ -= it->second.bytes;
+                it = entries_.erase(it);
+            } else {
+                ++it;
+            }
+        }
+    }
     struct Entry {
         std::vector<int> outer, inner;
         std::shared_ptr<const SymmetricPatternAnalysis> analysis;
@@ -456,18 +476,32 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     r.n = n;
     r.nonZeros = a.nonZeros();
     if (a.rows() != a.cols()) return out;
-    const Eigen::SparseMatrix<double> at = a.transpose();
-    for (Eigen::Index j = 0; j < a.outerSize(); ++j) {  // a symmetric pattern: a and its transpose alike
-        Eigen::SparseMatrix<double>::InnerIterator p(a, j), q(at, j);
-        for (; p && q; ++p, ++q) {
-            if (p.row() != q.row()) return out;
+    // A symmetric pattern in sorted order: walking the columns in order and handing each entry (i, j) the next unused
+    // entry of column i, that entry is always (j, i) and every entry is handed out once. The walk also records where
+    // each entry's transposed partner is stored, which factorize reads row k through.
+    const int* outer = a.outerIndexPtr();
+    const int* inner = a.innerIndexPtr();
+    if (!a.isCompressed()) return out;
+    std::vector<int> position(std::size_t(a.nonZeros()));  // entry (i, j) -> the entry (j, i), both in a's storage
+    {
+        std::vector<int> next(outer, outer + n);
+        for (int j = 0; j < n; ++j) {
+            for (int p = outer[j]; p < outer[j + 1]; ++p) {
+                const int i = inner[p];
+                const int q = next[std::size_t(i)]++;
+                if (q >= outer[i + 1] || inner[q] != j) return out;
+                position[std::size_t(p)] = q;
+            }
         }
-        if (p || q) return out;
     }
     r.symmetric = true;
-    Eigen::AMDOrdering<int> amd;
+    // Eigen's AMDOrdering orders the pattern of a + a^T, which for a symmetric pattern in sorted order is a's own
+    // index arrays: its minimum-degree routine runs on a copy of a (it overwrites its argument) for the same order.
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
-    amd(a, pinv);
+    {
+        Eigen::SparseMatrix<double> pattern = a;
+        Eigen::internal::minimum_degree_ordering(pattern, pinv);
+    }
     r.perm.assign(pinv.indices().data(), pinv.indices().data() + n);  // new index -> old index
     r.iperm.assign(std::size_t(n), 0);
     for (int k = 0; k < n; ++k) r.iperm[std::size_t(r.perm[std::size_t(k)])] = k;
@@ -478,11 +512,13 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     r.reachStart.assign(std::size_t(n) + 1, 0);
     std::vector<int> count(std::size_t(n), 0), flag(std::size_t(n), -1);
     std::vector<int> path(static_cast<std::size_t>(n), 0), order(static_cast<std::size_t>(n), 0);
+    r.reach.reserve(std::size_t(a.nonZeros()));
     for (int k = 0; k < n; ++k) {
         flag[std::size_t(k)] = k;
         int top = n;
-        for (Eigen::SparseMatrix<double>::InnerIterator it(a, r.perm[std::size_t(k)]); it; ++it) {
-            int i = r.iperm[std::size_t(it.row())];
+        const int old = r.perm[std::size_t(k)];
+        for (int p = outer[old]; p < outer[old + 1]; ++p) {
+            int i = r.iperm[std::size_t(inner[p])];
             if (i >= k) continue;
             int len = 0;
             for (; flag[std::size_t(i)] != k; i = r.parent[std::size_t(i)]) {
@@ -497,27 +533,23 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
         r.reachStart[std::size_t(k) + 1] = int(r.reach.size());
     }
     // Where factorize reads column k (rows <= k) and row k (columns < k) of P A P^T in a's values.
-    std::vector<int> position(std::size_t(a.nonZeros()));  // at's entry -> a's entry (same pattern)
-    {
-        std::vector<int> next(a.outerIndexPtr(), a.outerIndexPtr() + n);
-        for (int j = 0; j < n; ++j) {
-            for (int p = at.outerIndexPtr()[j]; p < at.outerIndexPtr()[j + 1]; ++p) {
-                position[std::size_t(p)] = next[std::size_t(at.innerIndexPtr()[p])]++;
-            }
-        }
-    }
     r.upperStart.assign(std::size_t(n) + 1, 0);
     r.lowerStart.assign(std::size_t(n) + 1, 0);
+    const std::size_t half = (std::size_t(a.nonZeros()) + std::size_t(n)) / 2;  // entries on and above the diagonal
+    r.upperAt.reserve(half);
+    r.upperRow.reserve(half);
+    r.lowerAt.reserve(half);
+    r.lowerCol.reserve(half);
     for (int k = 0; k < n; ++k) {
         const int old = r.perm[std::size_t(k)];
-        for (int p = a.outerIndexPtr()[old]; p < a.outerIndexPtr()[old + 1]; ++p) {
-            const int i = r.iperm[std::size_t(a.innerIndexPtr()[p])];
+        for (int p = outer[old]; p < outer[old + 1]; ++p) {
+            const int i = r.iperm[std::size_t(inner[p])];
             if (i > k) continue;
             r.upperAt.push_back(p);
             r.upperRow.push_back(i);
         }
-        for (int p = at.outerIndexPtr()[old]; p < at.outerIndexPtr()[old + 1]; ++p) {
-            const int j = r.iperm[std::size_t(at.innerIndexPtr()[p])];
+        for (int p = outer[old]; p < outer[old + 1]; ++p) {  // row old of a: its column's entries, transposed
+            const int j = r.iperm[std::size_t(inner[p])];
             if (j >= k) continue;
             r.lowerAt.push_back(position[std::size_t(p)]);
             r.lowerCol.push_back(j);

@@ -96,9 +96,9 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
     CHECK(cache.misses() == 2);
     CHECK(cache.size() == 2);
     REQUIRE(cachedLu.factorize(other));
-    // Only `a` is used from here on: `other` survives the end of the generation it was used in and of
-    // kKeepGenerations - 1 more, and is dropped when a kKeepGenerations-th one without it ends.
-    for (std::uint64_t g = 0; g < SymmetricPatternCache::kKeepGenerations; ++g) {
+    // Only `a` is used from here on: `other` (a small entry) survives the end of the generation it was used in and of
+    // kKeepSmallGenerations - 1 more, and is dropped when a kKeepSmallGenerations-th one without it ends.
+    for (std::uint64_t g = 0; g < SymmetricPatternCache::kKeepSmallGenerations; ++g) {
         cache.nextGeneration();
         CHECK(cache.size() == 2);
         cachedLu.analyzePattern(a, &cache);
@@ -107,6 +107,56 @@ TEST_CASE("symmetric-pattern LU: solves a perturbed quasi-definite system as a d
     CHECK(cache.size() == 1);
     cachedLu.analyzePattern(other, &cache);  // analysed again
     CHECK(cache.misses() == 3);
+    // A full cache makes room from the small entries kept past kKeepGenerations, never from recent ones.
+    {
+        SymmetricPatternCache probe;
+        SymmetricPatternLu probeLu;
+        probeLu.analyzePattern(a, &probe);
+        const std::size_t sizeA = probe.bytes();
+        probeLu.analyzePattern(other, &probe);
+        const std::size_t sizeOther = probe.bytes() - sizeA;
+        SymmetricPatternCache full(sizeA + sizeOther - 1);  // room for one of the two
+        SymmetricPatternLu fullLu;
+        fullLu.analyzePattern(a, &full);
+        for (std::uint64_t g = 0; g < SymmetricPatternCache::kKeepGenerations; ++g) full.nextGeneration();
+        fullLu.analyzePattern(other, &full);  // `a` was used kKeepGenerations - 1 generations before: it stays
+        CHECK(full.size() == 1);
+        fullLu.analyzePattern(a, &full);
+        CHECK(full.hits() == 1);
+        for (std::uint64_t g = 0; g <= SymmetricPatternCache::kKeepGenerations; ++g) full.nextGeneration();
+        CHECK(full.size() == 1);  // a small entry outlives kKeepGenerations
+        fullLu.analyzePattern(other, &full);  // and makes room for a new one
+        CHECK(full.size() == 1);
+        CHECK(full.bytes() == sizeOther);
+        fullLu.analyzePattern(other, &full);
+        CHECK(full.hits() == 2);
+    }
+    // An entry above kSmallEntryBytes (a tridiagonal system of 60000 unknowns) is dropped after kKeepGenerations.
+    {
+        const int big = 60000;
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int i = 0; i < big; ++i) {
+            entries.emplace_back(i, i, 4.0);
+            if (i + 1 < big) {
+                entries.emplace_back(i, i + 1, -1.0);
+                entries.emplace_back(i + 1, i, -1.0);
+            }
+        }
+        Eigen::SparseMatrix<double> chain(big, big);
+        chain.setFromTriplets(entries.begin(), entries.end());
+        SymmetricPatternCache bigCache;
+        SymmetricPatternLu chainLu;
+        chainLu.analyzePattern(chain, &bigCache);
+        REQUIRE(bigCache.size() == 1);
+        CHECK(bigCache.bytes() > SymmetricPatternCache::kSmallEntryBytes);
+        for (std::uint64_t g = 0; g < SymmetricPatternCache::kKeepGenerations; ++g) {
+            bigCache.nextGeneration();
+            CHECK(bigCache.size() == 1);
+        }
+        bigCache.nextGeneration();
+        CHECK(bigCache.size() == 0);
+        REQUIRE(chainLu.factorize(chain));  // the factor keeps its own analysis
+    }
     SymmetricPatternCache tiny(64);  // smaller than any analysis: nothing is kept, answers are unchanged
     SymmetricPatternLu tinyLu;
     tinyLu.analyzePattern(a, &tiny);
