@@ -80,8 +80,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         }
         ResolverOptions rowOptions = options;
         rowOptions.frictionDirections = 2;
-        const detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, rowOptions);
-        const int tOff = nc;  // +t row of contact c: tOff + 2c (its -t row, tOff + 2c + 1, is the exact negation)
+        // Only the +t rows are read: the -t row of contact c, tOff + 2c + 1, is the exact negation and left empty.
+        const detail::FrictionSystem<D> sys = detail::buildFrictionSystem(ioBodies, contacts, rowOptions, true);
+        const int tOff = nc;  // +t row of contact c: tOff + 2c
         // Degrees of freedom: 3 per movable body (vx, vy, omega).
         std::vector<int> dof(std::size_t(nb), -1);
         int ndof = 0;

@@ -402,9 +402,12 @@ struct FrictionSystem {
     std::vector<typename D::Vec> dirs; // the tangent directions, contact c's at c * k (for composing the impulses)
 };
 
+// With evenDirectionsOnly (for a reader of the +t rows of a 2D pyramid only), the rows of the odd directions (-t)
+// are left empty with b = 0; every other row is as without it.
 template <class D>
 FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies,
-                                      const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options) {
+                                      const std::vector<ContactNode<D>>& contacts, const ResolverOptions& options,
+                                      bool evenDirectionsOnly = false) {
     FrictionSystem<D> sys;
     FrictionLayout& layout = sys.layout;
     layout.contacts = int(contacts.size());
@@ -422,6 +425,10 @@ FrictionSystem<D> buildFrictionSystem(const std::vector<ResolverBody<D>>& bodies
         for (int m = 0; m < k; ++m) {
             const typename D::Vec dir = D::tangentDirection(node.normal, m, k);  // as frictionDirections(node, k)
             sys.dirs.push_back(dir);
+            if (evenDirectionsOnly && m % 2 == 1) {  // an empty row in its place, b = 0
+                sys.rows.emplace_back();
+                continue;
+            }
             sys.rows.push_back(makeRow(bodies, node, dir));
             const double vt = relativeVelocityAlong(bodies, node, dir);
             sys.b[std::size_t(layout.tangentOffset() + c * k + m)] = std::fabs(vt) <= options.tangentDeadZone ? 0.0 : vt;
