@@ -514,7 +514,8 @@ void WorldStep<D>::solveIslands(H& hooks) {
             fn(mJobs[std::size_t(mJobsDescending ? i : order[std::size_t(i)])], worker);
         });
     };
-    // Analyses unused for a whole step are dropped (found or not, an analysis never changes an answer).
+    // A new generation of the pattern caches: analyses unused for their keeping time are dropped (found or not, an
+    // analysis never changes an answer).
     if (mWorkers.empty()) mWorkers.resize(1);
     for (Worker& w : mWorkers) {
         w.patterns.nextGeneration();
