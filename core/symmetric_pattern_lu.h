@@ -97,7 +97,7 @@ public:
         const std::size_t size = analysis->bytes() + sizeof(int) * (outer + inner) + sizeof(Entry);
         // Room is made first from the entries that only the longer keeping of small ones has left (those the
         // kKeepGenerations rule would have dropped at the end of the last generation).
-        if (bytes_ + size > maxBytes_) dropUnusedFor(kKeepGenerations + 1);
+        if (bytes_ + size > maxBytes_) dropUnused(kKeepGenerations + 1, kKeepGenerations + 1);
         if (bytes_ + size > maxBytes_) return analysis;
         Entry& e = entries_[key];
         e.outer.assign(a.outerIndexPtr(), a.outerIndexPtr() + outer);
@@ -122,16 +122,7 @@ public:
     static constexpr std::uint64_t kKeepSmallGenerations = 64;
     static constexpr std::size_t kSmallEntryBytes = std::size_t(1) << 20;
     void nextGeneration() {
-        for (auto it = entries_.begin(); it != entries_.end();) {
-            const std::uint64_t keep =
-                it->second.bytes <= kSmallEntryBytes ? kKeepSmallGenerations : kKeepGenerations;
-            if (generation_ - it->second.generation >= keep) {
-                bytes_ -= it->second.bytes;
-                it = entries_.erase(it);
-            } else {
-                ++it;
-            }
-        }
+        dropUnused(kKeepSmallGenerations, kKeepGenerations);
         ++generation_;
     }
     std::size_t size() const { return entries_.size(); }
@@ -140,9 +131,11 @@ public:
     std::uint64_t misses() const { return misses_; }
 
 private:
-    // Drops the entries unused in the current generation and the `generations` - 1 before it.
-    void dropUnusedFor(std::uint64_t generations) {
+    // Drops the entries unused in the current generation and the `keep` - 1 before it: `keepSmall` for entries of at
+    // most kSmallEntryBytes.
+    void dropUnused(std::uint64_t keepSmall, std::uint64_t keep) {
         for (auto it = entries_.begin(); it != entries_.end();) {
+            const std::uint64_t generations = it->second.bytes <= kSmallEntryBytes ? keepSmall : keep;
             if (generation_ - it->second.generation >= generations) {
                 bytes_ -= it->second.bytes;
                 it = entries_.erase(it);
@@ -479,9 +472,9 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     // A symmetric pattern in sorted order: walking the columns in order and handing each entry (i, j) the next unused
     // entry of column i, that entry is always (j, i) and every entry is handed out once. The walk also records where
     // each entry's transposed partner is stored, which factorize reads row k through.
+    if (!a.isCompressed()) return out;
     const int* outer = a.outerIndexPtr();
     const int* inner = a.innerIndexPtr();
-    if (!a.isCompressed()) return out;
     std::vector<int> position(std::size_t(a.nonZeros()));  // entry (i, j) -> the entry (j, i), both in a's storage
     {
         std::vector<int> next(outer, outer + n);
