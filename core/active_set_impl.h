@@ -288,8 +288,11 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         // step 181 -> 48 ms, the same from 100 to 10000 tolerances).
         if (!cold && settings.interiorPoint && bestResidual > kInteriorFirstGate * tolAbs) limit = 0;
         epsRel = cold && !coldInterior ? kEps0 : kPolishEps;
+        // The residual of the current (x, u) when it is already known (a step whose projection changed nothing),
+        // else negative.
+        double knownResidual = bestResidual;
         for (;;) {
-            if (lcpResidual(x, u) <= tolAbs) {
+            if ((knownResidual >= 0.0 ? knownResidual : lcpResidual(x, u)) <= tolAbs) {
                 solved = true;
                 break;
             }
@@ -314,6 +317,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         currentMerit = merit(x, u);
                         limit = iterations + kPolish;
                         const double r0 = lcpResidual(x, u);
+                        knownResidual = r0;
                         if (r0 < bestResidual) {
                             bestResidual = r0;
                             bestX = x;
@@ -606,11 +610,18 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
             }
             {
                 // The step's projection onto p_n >= 0, |p_t| <= mu p_n: degenerate contacts end a little outside.
+                // A projection that changed no bit leaves the velocities as they are (charged all the same: the
+                // work count does not depend on it).
                 xp = xt;
                 project(xp);
-                velocities(xp, up);
+                const bool moved = std::memcmp(xp.data(), xt.data(), xt.size() * sizeof(double)) != 0;
+                if (moved)
+                    velocities(xp, up);
+                else
+                    up = ut;
                 work += rowWork;
                 const double r = lcpResidual(xp, up);
+                knownResidual = moved ? -1.0 : r;
                 if (r <= tolAbs) {
                     x.swap(xp);
                     u.swap(up);

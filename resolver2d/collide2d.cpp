@@ -30,22 +30,24 @@ constexpr double kReferenceTolerance = 0.0005;
 // (n = 704); with one point per end, 713 (n = 376).
 constexpr double kMergeDistance = 0.005;
 
-// A convex vertex loop in some frame: a polygon, or a segment as two vertices with opposite normals.
+// A convex vertex loop in some frame: a polygon, or a segment as two vertices with opposite normals. It reads
+// vertices and normals held elsewhere (a polygon's own arrays, or a HullStore), so a polygon is not copied.
 struct Hull {
     int count = 0;
-    Vec2 v[kMaxPolygonVertices];
-    Vec2 n[kMaxPolygonVertices];
+    const Vec2* v = nullptr;
+    const Vec2* n = nullptr;
 };
 
-Hull hullOf(const Polygon& p) {
-    Hull h;
-    h.count = p.count;
-    for (int i = 0; i < p.count; ++i) {
-        h.v[i] = p.vertices[i];
-        h.n[i] = p.normals[i];
-    }
-    return h;
-}
+// Storage for a hull of up to N vertices that is computed, not read off a shape.
+template <int N>
+struct HullStore {
+    int count = 0;
+    Vec2 v[N];
+    Vec2 n[N];
+    Hull view() const { return {count, v, n}; }
+};
+
+Hull hullOf(const Polygon& p) { return {p.count, p.vertices.data(), p.normals.data()}; }
 
 // Right-hand normal of p1 -> p2 (the outward normal of a counter-clockwise edge).
 Vec2 rightNormal(const Segment& s) {
@@ -54,8 +56,8 @@ Vec2 rightNormal(const Segment& s) {
     return {e.y / len, -e.x / len};
 }
 
-Hull hullOf(const Segment& s) {
-    Hull h;
+HullStore<2> hullOf(const Segment& s) {
+    HullStore<2> h;
     h.count = 2;
     h.v[0] = s.p1;
     h.v[1] = s.p2;
@@ -72,8 +74,8 @@ Transform2 relative(const Transform2& xfA, const Transform2& xfB) {
     return r;
 }
 
-Hull transformed(const Hull& h, const Transform2& xf) {
-    Hull out;
+HullStore<kMaxPolygonVertices> transformed(const Hull& h, const Transform2& xf) {
+    HullStore<kMaxPolygonVertices> out;
     out.count = h.count;
     for (int i = 0; i < h.count; ++i) {
         out.v[i] = transformPoint(xf, h.v[i]);
@@ -180,7 +182,7 @@ Manifold2 toWorld(const Manifold2& local, const Transform2& xf) {
 
 Manifold2 collideHullsWorld(const Hull& a, const Transform2& xfA, const Hull& b, const Transform2& xfB,
                             double speculativeDistance) {
-    return toWorld(collideHulls(a, transformed(b, relative(xfA, xfB)), speculativeDistance), xfA);
+    return toWorld(collideHulls(a, transformed(b, relative(xfA, xfB)).view(), speculativeDistance), xfA);
 }
 
 // One-point manifold from a surface point q of B (B's frame), the unit normal n (B's frame, towards A), the gap
@@ -316,7 +318,7 @@ Manifold2 collidePolygons(const Polygon& a, const Transform2& xfA, const Polygon
 
 Manifold2 collidePolygonAndSegment(const Polygon& a, const Transform2& xfA, const Segment& b, const Transform2& xfB,
                                    double speculativeDistance) {
-    return collideHullsWorld(hullOf(a), xfA, hullOf(b), xfB, speculativeDistance);
+    return collideHullsWorld(hullOf(a), xfA, hullOf(b).view(), xfB, speculativeDistance);
 }
 
 Manifold2 collide(const Shape2& a, const Transform2& xfA, const Shape2& b, const Transform2& xfB,
@@ -340,7 +342,7 @@ Manifold2 collide(const Shape2& a, const Transform2& xfA, const Shape2& b, const
         case ShapeType::segment:
             switch (b.type) {
                 case ShapeType::circle: return swapped(collideCircleAndSegment(b.circle, xfB, a.segment, xfA, d));
-                case ShapeType::polygon: return collideHullsWorld(hullOf(a.segment), xfA, hullOf(b.polygon), xfB, d);
+                case ShapeType::polygon: return collideHullsWorld(hullOf(a.segment).view(), xfA, hullOf(b.polygon), xfB, d);
                 case ShapeType::segment: return {};  // static ground never collides with static ground
             }
             break;

@@ -23,11 +23,11 @@ std::vector<std::pair<int, int>> findPairs3(const std::vector<Aabb3>& boxes, con
     return sweepPairs(
         order, [&](int a) { return boxes[std::size_t(a)].upper.x(); },
         [&](int a, int b) {
-            if (isInactive(a) && isInactive(b)) return false;
+            // The overlap tests first: they reject most of the boxes that overlap in x.
             const Aabb3& ba = boxes[std::size_t(a)];
             const Aabb3& bb = boxes[std::size_t(b)];
             return ba.lower.y() <= bb.upper.y() && bb.lower.y() <= ba.upper.y() && ba.lower.z() <= bb.upper.z() &&
-                   bb.lower.z() <= ba.upper.z();
+                   bb.lower.z() <= ba.upper.z() && !(isInactive(a) && isInactive(b));
         },
         runner);
 }
