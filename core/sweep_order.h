@@ -27,9 +27,11 @@ inline bool sweepLess(const SweepEntry& l, const SweepEntry& r) {
 /// only its own outputs). A broadphase takes one to sweep ranges of its sorted order in parallel.
 using ChunkRunner = std::function<void(int chunks, const std::function<void(int chunk)>& fn)>;
 
-/// The order of the last sort: every box index of that call, valid ones first in sorted order.
+/// The order of the last sort: every box index of that call, valid ones first in sorted order; and how many more
+/// calls go to a broadphase's crowded-layout method directly (after a sweep ran past its candidate budget).
 struct SweepCache {
     std::vector<int> order;
+    int gridCalls = 0;
 };
 
 /// The valid boxes (valid(i)) of [0, n) sorted by (lowerX(i), i) into `out`. With a cache from a call of the same n,
@@ -123,37 +125,59 @@ inline void sortPairs(std::vector<std::pair<int, int>>& pairs) {
 
 /// The sweep over sorted boxes: for every position i of `order`, the boxes j > i that start before box i ends in x
 /// (order[j].lowerX <= upperX(order[i].index)) and pass keep(a, b) (the other axes, flags), as (min, max) pairs,
-/// sorted by (a, b). With a runner, ranges of i are swept as separate chunks and their pairs joined: the sorted
-/// result is the same whatever the chunks and their order.
+/// sorted by (a, b), into `pairs`. With a runner, ranges of i are swept as separate chunks and their pairs joined:
+/// the sorted result is the same whatever the chunks and their order. maxCandidates > 0 bounds the boxes met in x
+/// (a chunk of c of the m boxes gets maxCandidates * c / m of them): false, and `pairs` incomplete, when a sweep ran
+/// past it. Boxes laid out in a grid (rows of pyramids) meet every row's boxes in x, which is what the bound catches.
 template <class UpperX, class Keep>
-std::vector<std::pair<int, int>> sweepPairs(const std::vector<SweepEntry>& order, UpperX upperX, Keep keep,
-                                            const ChunkRunner* runner) {
+bool sweepPairsWithin(const std::vector<SweepEntry>& order, UpperX upperX, Keep keep, const ChunkRunner* runner,
+                      std::size_t maxCandidates, std::vector<std::pair<int, int>>& pairs) {
     const int m = int(order.size());
     auto sweep = [&](int begin, int end, std::vector<std::pair<int, int>>& out) {
+        const std::size_t budget = maxCandidates > 0 ? std::size_t(double(maxCandidates) * (end - begin) / m) + 1 : 0;
+        std::size_t met = 0;
         for (int i = begin; i < end; ++i) {
             const int a = order[std::size_t(i)].index;
             const double ax = upperX(a);
-            for (int j = i + 1; j < m && order[std::size_t(j)].lowerX <= ax; ++j) {
+            int j = i + 1;
+            for (; j < m && order[std::size_t(j)].lowerX <= ax; ++j) {
                 const int b = order[std::size_t(j)].index;
                 if (keep(a, b)) out.emplace_back(std::min(a, b), std::max(a, b));
             }
+            met += std::size_t(j - i - 1);
+            if (budget > 0 && met > budget) return false;
         }
+        return true;
     };
-    std::vector<std::pair<int, int>> pairs;
+    pairs.clear();
     const int chunks = runner ? std::min(64, m / 128) : 0;
     if (chunks < 2) {
-        sweep(0, m, pairs);
+        if (!sweep(0, m, pairs)) return false;
     } else {
         std::vector<std::vector<std::pair<int, int>>> parts(static_cast<std::size_t>(chunks));
+        std::vector<std::uint8_t> within(static_cast<std::size_t>(chunks), 1);
         (*runner)(chunks, [&](int c) {
-            sweep(int(std::int64_t(m) * c / chunks), int(std::int64_t(m) * (c + 1) / chunks), parts[std::size_t(c)]);
+            within[std::size_t(c)] = sweep(int(std::int64_t(m) * c / chunks), int(std::int64_t(m) * (c + 1) / chunks),
+                                           parts[std::size_t(c)])
+                                         ? 1
+                                         : 0;
         });
+        if (std::find(within.begin(), within.end(), std::uint8_t(0)) != within.end()) return false;
         std::size_t total = 0;
         for (const auto& p : parts) total += p.size();
         pairs.reserve(total);
         for (const auto& p : parts) pairs.insert(pairs.end(), p.begin(), p.end());
     }
     sortPairs(pairs);
+    return true;
+}
+
+/// sweepPairsWithin without a bound.
+template <class UpperX, class Keep>
+std::vector<std::pair<int, int>> sweepPairs(const std::vector<SweepEntry>& order, UpperX upperX, Keep keep,
+                                            const ChunkRunner* runner) {
+    std::vector<std::pair<int, int>> pairs;
+    sweepPairsWithin(order, upperX, keep, runner, 0, pairs);
     return pairs;
 }
 

@@ -466,4 +466,75 @@ TEST_CASE("broadphase: a sweep cache kept between calls changes the cost, never 
     CHECK(cache.order.size() == std::size_t(n / 2));
 }
 
+TEST_CASE("broadphase: a crowded layout goes to the grid, with the sweep's pairs") {
+    // Rows of pyramids of touching unit boxes (Box2D v3's many-pyramids layout): every box meets every row's boxes
+    // in x, past the sweep's budget of 16 per box, so the pairs come from the grid.
+    auto brute = [](const std::vector<Aabb2>& boxes, const std::vector<std::uint8_t>& isStatic) {
+        std::vector<std::pair<int, int>> out;
+        for (int a = 0; a < int(boxes.size()); ++a)
+            for (int b = a + 1; b < int(boxes.size()); ++b) {
+                const bool bothStatic = !isStatic.empty() && isStatic[std::size_t(a)] && isStatic[std::size_t(b)];
+                const Aabb2& A = boxes[std::size_t(a)];
+                const Aabb2& B = boxes[std::size_t(b)];
+                const bool valid = A.lower.x <= A.upper.x && A.lower.y <= A.upper.y && B.lower.x <= B.upper.x &&
+                                   B.lower.y <= B.upper.y;
+                if (valid && !bothStatic && overlaps(A, B)) out.push_back({a, b});
+            }
+        return out;
+    };
+    std::vector<Aabb2> boxes;
+    std::vector<std::uint8_t> isStatic;
+    for (int row = 0; row < 6; ++row) {
+        boxes.push_back({{-40.0, 11.0 * row - 0.1}, {40.0, 11.0 * row}});  // a ground segment per row, static
+        isStatic.push_back(1);
+        for (int column = 0; column < 5; ++column)
+            for (int level = 0; level < 10; ++level)
+                for (int k = 0; k < 10 - level; ++k) {
+                    const double x = -30.0 + 11.0 * column + 0.5 * level + k, y = 11.0 * row + level;
+                    boxes.push_back({{x, y}, {x + 1.0, y + 1.0}});  // touching on every side
+                    isStatic.push_back(0);
+                }
+    }
+    boxes[7].lower.x = boxes[7].upper.x + 1.0;  // one invalid box
+    const std::vector<std::pair<int, int>> expected = brute(boxes, isStatic);
+    REQUIRE(expected.size() > 3000);
+    SweepCache cache;
+    CHECK(findPairs(boxes, isStatic, &cache) == expected);
+    CHECK(cache.gridCalls == 64);  // the sweep ran past its budget; the next 64 calls go to the grid directly
+    CHECK(findPairs(boxes, isStatic, &cache) == expected);
+    CHECK(cache.gridCalls == 63);
+    const ChunkRunner backwards = [](int chunks, const std::function<void(int)>& fn) {
+        for (int c = chunks - 1; c >= 0; --c) fn(c);
+    };
+    CHECK(findPairs(boxes, isStatic, nullptr, &backwards) == expected);  // the chunked sweep gives way too
+    CHECK(findPairs(boxes, {}) == brute(boxes, {}));                     // the grounds pair with each other too
+
+    SUBCASE("boxes the grid cannot place are tested against every box") {
+        // Far out (beyond 2^30 cells) and long (more cells than the grid allows per box), a few of each.
+        for (int k = 0; k < 5; ++k) {
+            boxes.push_back({{1e300, 0.0}, {1e300, 1.0}});
+            boxes.push_back({{-1e300, 3.0 + k}, {1e300, 3.5 + k}});
+            boxes.push_back({{-1e12, -1e12}, {1e12, 1e12}});
+            for (int i = 0; i < 3; ++i) isStatic.push_back(k == 2 ? 1 : 0);
+        }
+        SweepCache fresh;
+        CHECK(findPairs(boxes, isStatic, &fresh) == brute(boxes, isStatic));
+        CHECK(fresh.gridCalls == 64);
+    }
+    SUBCASE("too many such boxes, or boxes of no extent: the sweep answers") {
+        for (int k = 0; k < 70; ++k) {  // more than the grid tests against every box
+            boxes.push_back({{-1e300, 0.5 * k}, {1e300, 0.5 * k + 0.1}});
+            isStatic.push_back(0);
+        }
+        SweepCache fresh;
+        CHECK(findPairs(boxes, isStatic, &fresh) == brute(boxes, isStatic));
+        CHECK(fresh.gridCalls == 0);
+        std::vector<Aabb2> points;  // a column of 3000 points: crowded in x, median extent 0
+        for (int i = 0; i < 3000; ++i) points.push_back({{1.0, 0.001 * (i / 2)}, {1.0, 0.001 * (i / 2)}});
+        SweepCache column;
+        CHECK(findPairs(points, {}, &column) == brute(points, {}));
+        CHECK(column.gridCalls == 0);
+    }
+}
+
 }  // TEST_SUITE
