@@ -134,7 +134,8 @@ bool sweepPairsWithin(const std::vector<SweepEntry>& order, UpperX upperX, Keep 
                       std::size_t maxCandidates, std::vector<std::pair<int, int>>& pairs) {
     const int m = int(order.size());
     auto sweep = [&](int begin, int end, std::vector<std::pair<int, int>>& out) {
-        const std::size_t budget = maxCandidates > 0 ? std::size_t(double(maxCandidates) * (end - begin) / m) + 1 : 0;
+        const std::size_t budget =
+            maxCandidates > 0 && m > 0 ? std::size_t(double(maxCandidates) * double(end - begin) / double(m)) + 1 : 0;
         std::size_t met = 0;
         for (int i = begin; i < end; ++i) {
             const int a = order[std::size_t(i)].index;
