@@ -35,9 +35,9 @@ constexpr double kCellPerExtent = 2.0;
 // overlap), so it is met once. A box covering more than maxCells cells (a long ground segment in a small-box
 // scene) is tested against every box instead. Returns false (pairs untouched) when the boxes' extents give no
 // usable cell (a median extent of 0 or not finite, more than kMaxEverywhere such boxes, or cells beyond 2^31 in a
-// row); the sweep answers then.
-template <class Keep>
-bool gridPairs(const std::vector<Aabb2>& boxes, const std::vector<int>& valid, Keep keep,
+// row); the sweep answers then. accept(a, b) says whether two boxes that overlap make a pair (the flags).
+template <class Accept>
+bool gridPairs(const std::vector<Aabb2>& boxes, const std::vector<int>& valid, Accept accept,
                std::vector<std::pair<int, int>>& pairs) {
     const std::size_t n = valid.size();
     if (n < 2) return false;
@@ -129,9 +129,7 @@ bool gridPairs(const std::vector<Aabb2>& boxes, const std::vector<int>& valid, K
                 const Range& rb = range[std::size_t(b)];
                 // The pair's own cell: the larger lower corner, which both boxes cover.
                 if (std::max(ra.x0, rb.x0) != cx || std::max(ra.y0, rb.y0) != cy) continue;
-                const Aabb2& ba = boxes[std::size_t(a)];
-                const Aabb2& bb = boxes[std::size_t(b)];
-                if (ba.lower.x <= bb.upper.x && bb.lower.x <= ba.upper.x && keep(a, b)) pairs.emplace_back(a, b);
+                if (overlaps(boxes[std::size_t(a)], boxes[std::size_t(b)]) && accept(a, b)) pairs.emplace_back(a, b);
             }
         }
         g0 = g1;
@@ -139,11 +137,9 @@ bool gridPairs(const std::vector<Aabb2>& boxes, const std::vector<int>& valid, K
     // Boxes tested against every box: against the grid's boxes, and against each other once.
     for (std::size_t e = 0; e < everywhere.size(); ++e) {
         const int a = everywhere[e];
-        const Aabb2& ba = boxes[std::size_t(a)];
         for (int b : valid) {
             if (b == a || (!inGrid[std::size_t(b)] && b < a)) continue;
-            const Aabb2& bb = boxes[std::size_t(b)];
-            if (ba.lower.x <= bb.upper.x && bb.lower.x <= ba.upper.x && keep(a, b))
+            if (overlaps(boxes[std::size_t(a)], boxes[std::size_t(b)]) && accept(a, b))
                 pairs.emplace_back(std::min(a, b), std::max(a, b));
         }
     }
@@ -166,11 +162,13 @@ std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, cons
         n, [&](int i) { return validBox(boxes[std::size_t(i)]); }, [&](int i) { return boxes[std::size_t(i)].lower.x; },
         order, cache, runner);
 
-    // Overlap in y, then the flags (x is the sweep's, or tested by the grid).
+    // A pair needs not both boxes static. The sweep has the x overlap and tests y first: it rejects most of the
+    // boxes that overlap in x.
+    auto accept = [&](int a, int b) { return !(staticBox(a) && staticBox(b)); };
     auto keep = [&](int a, int b) {
         const Aabb2& ba = boxes[std::size_t(a)];
         const Aabb2& bb = boxes[std::size_t(b)];
-        return ba.lower.y <= bb.upper.y && bb.lower.y <= ba.upper.y && !(staticBox(a) && staticBox(b));
+        return ba.lower.y <= bb.upper.y && bb.lower.y <= ba.upper.y && accept(a, b);
     };
     auto upperX = [&](int a) { return boxes[std::size_t(a)].upper.x; };
     std::vector<std::pair<int, int>> pairs;
@@ -184,7 +182,7 @@ std::vector<std::pair<int, int>> findPairs(const std::vector<Aabb2>& boxes, cons
     valid.reserve(order.size());
     for (int i = 0; i < n; ++i)
         if (validBox(boxes[std::size_t(i)])) valid.push_back(i);
-    if (gridPairs(boxes, valid, keep, pairs)) {
+    if (gridPairs(boxes, valid, accept, pairs)) {
         if (cache && !crowded) cache->gridCalls = kGridCalls;
         return pairs;
     }
