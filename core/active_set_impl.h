@@ -219,7 +219,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         ActiveSetScratch localScratch;
         ActiveSetScratch& scratch = settings.scratch ? *settings.scratch : localScratch;
         auto interiorPoint = [&](std::vector<double>& xOut) {
-            return detail::interiorPointStart<D>(ioBodies, sys.mu, diag, dof, ndof, bMax, rowAt, velocities, rowWork,
+            return detail::interiorPointStart<D>(ioBodies, sys.mu, diag, dof, ndof, bMax, rowAt, velocities,
+                                                 lcpResidual, tolAbs, rowWork,
                                                  settings.patternCache, &scratch.interiorPoint, settings.maxWork, work,
                                                  xOut);
         };

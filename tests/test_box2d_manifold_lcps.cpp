@@ -211,6 +211,37 @@ TEST_SUITE("box2d_manifold_lcps") {
         }
     }
 
+    // The active-set path (what a world runs on an island of this size) from a cold start begins with the
+    // interior-point answer of the convex relaxation; where no contact slides that answer is the LCP's, and the
+    // iterate certifies as it stands, before the path factors a system of its own.
+    TEST_CASE("the active-set path certifies the double-data members at the interior-point iterate") {
+        for (int rows : {12, 20}) {
+            for (bool friction : {false, true}) {
+                CAPTURE(rows);
+                CAPTURE(friction);
+                std::vector<ResolverBody<Dim2>> bodies;
+                std::vector<ContactNode<Dim2>> contacts;
+                bench::toResolverInput(snapshot(rows), &bodies, &contacts);
+                if (!friction)
+                    for (auto& c : contacts) c.friction = 0.0;
+                ResolverOptions options;
+                options.frictionDirections = 2;
+                const std::vector<double> cold(contacts.size() * 3, 0.0);
+                const Resolution r = resolveActiveSet(bodies, contacts, cold, options, ActiveSetOptions{});
+                REQUIRE(r.status == LcpStatus::solved);
+                CHECK(r.activeSet);
+                CHECK(r.interiorPoint);
+                CHECK(r.patternAnalyses == 0);  // no iteration of the path's own
+                CHECK(r.scaledResidual <= 1e-9);
+                if (!friction) {  // z is the normal impulses: the residual recomputed on the member's own data
+                    const ManifoldLcp& m = member(rows, false, ManifoldData::doubleData);
+                    REQUIRE(r.impulses.size() == std::size_t(m.lcp.n));
+                    CHECK(bench::scaledResidual(m.lcp, r.impulses) <= 1e-9);
+                }
+            }
+        }
+    }
+
     // ---- Targets. Lemke's run alone misses every member (it cycles to its cap or ends numerical_failure/infeasible);
     // ---- LemkeSolver's robust path (core/lcp_robust.cpp) then answers. Each comment gives the solver's status,
     // ---- total pivots and recomputed scaled residual. A member a change makes it miss gets doctest::may_fail().
