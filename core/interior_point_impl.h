@@ -78,8 +78,8 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     std::vector<int>& kpos = sc.kpos;
     std::vector<int>& kcontact = sc.kcontact;     // per contact entry of kt (after the mass diagonal): its contact
     std::vector<std::uint8_t>& kcode = sc.kcode;  // ... and its sides and components (sa << 6 | a << 4 | sb << 2 | bb)
-    // The contact entries the factorisation reads, in kt's order: their place in Kb's values and their code, and
-    // where each contact's begin.
+    // The contact entries the factorisation reads, in kt's order: their place in Kb's values and their sides and
+    // components ((sa * 3 + a) << 4 | (sb * 3 + bb)), and where each contact's begin.
     std::vector<int>& readPos = sc.readPos;
     std::vector<int>& readStart = sc.readStart;
     std::vector<std::uint8_t>& readCode = sc.readCode;
@@ -87,27 +87,44 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     SymmetricPatternLu& kbFactor = sc.factor;
     bool analysed = false;
     std::vector<double> moment(std::size_t(ndof > 0 ? ndof : 1));
+    // Per contact, what the loops below read of its rows: each side's first degree of freedom (-1: immovable), the
+    // normal and +t rows' components on it, and a bit per component that does not move (side * 3 + component).
+    struct ContactRows {
+        int d[2];
+        double n[2][3], t[2][3];
+        unsigned lockedMask;
+    };
+    std::vector<ContactRows> contactRows(static_cast<std::size_t>(nc));
     auto addRows = [&](int c, double hn, double ht) {  // moment += J_n^T hn + J_t^T ht
+        const ContactRows& q = contactRows[std::size_t(c)];
         for (int r = 0; r < 2; ++r) {
             const double v = r == 0 ? hn : ht;
             if (v == 0.0) continue;
-            const detail::JacobianRow<D>& row = rowAt(c, r);
+            const double(*j)[3] = r == 0 ? q.n : q.t;
             for (int sd = 0; sd < 2; ++sd) {
-                const int d = dof[std::size_t(row.body[sd])];
+                const int d = q.d[sd];
                 if (d < 0) continue;
-                const double j[3] = {row.lin[sd].x, row.lin[sd].y, row.ang[sd]};
+                double* mo = &moment[std::size_t(d)];
+                const unsigned lockedHere = (q.lockedMask >> (3 * sd)) & 7u;
+                if (lockedHere == 0) {
+                    mo[0] += v * j[sd][0];
+                    mo[1] += v * j[sd][1];
+                    mo[2] += v * j[sd][2];
+                    continue;
+                }
                 for (int a = 0; a < 3; ++a)
-                    if (!locked[std::size_t(d + a)]) moment[std::size_t(d + a)] += v * j[a];
+                    if (!((lockedHere >> a) & 1u)) mo[a] += v * j[sd][a];
             }
         }
     };
     auto rowDot = [&](int c, int r, const Eigen::VectorXd& v) {  // J_r v
-        const detail::JacobianRow<D>& row = rowAt(c, r);
+        const ContactRows& q = contactRows[std::size_t(c)];
+        const double(*j)[3] = r == 0 ? q.n : q.t;
         double sum = 0.0;
         for (int sd = 0; sd < 2; ++sd) {
-            const int d = dof[std::size_t(row.body[sd])];
+            const int d = q.d[sd];
             if (d < 0) continue;
-            sum += row.lin[sd].x * v[d] + row.lin[sd].y * v[d + 1] + row.ang[sd] * v[d + 2];
+            sum += j[sd][0] * v[d] + j[sd][1] * v[d + 1] + j[sd][2] * v[d + 2];
         }
         return sum;
     };
@@ -122,6 +139,22 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         const ResolverBody<D>& B = bodies[std::size_t(k)];
         const double inv[3] = {B.invMass, B.invMass, B.invInertia};
         for (int a = 0; a < 3; ++a) locked[std::size_t(d + a)] = inv[a] > 0.0 ? 0 : 1;
+    }
+    for (int c = 0; c < nc; ++c) {
+        ContactRows& q = contactRows[std::size_t(c)];
+        const detail::JacobianRow<D>& rn = rowAt(c, 0);
+        const detail::JacobianRow<D>& rt = rowAt(c, 1);
+        q.lockedMask = 0;
+        for (int sd = 0; sd < 2; ++sd) {
+            q.d[sd] = dof[std::size_t(rn.body[sd])];
+            const double nv[3] = {rn.lin[sd].x, rn.lin[sd].y, rn.ang[sd]};
+            const double tv[3] = {rt.lin[sd].x, rt.lin[sd].y, rt.ang[sd]};
+            for (int a = 0; a < 3; ++a) {
+                q.n[sd][a] = nv[a];
+                q.t[sd][a] = tv[a];
+                if (q.d[sd] >= 0 && locked[std::size_t(q.d[sd] + a)]) q.lockedMask |= 1u << (3 * sd + a);
+            }
+        }
     }
     // Direction for a complementarity target rc (rd, rp, s, y, hinv and the factors current).
     auto direction = [&]() -> bool {
@@ -316,24 +349,22 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             for (int c = 0; c < nc; ++c) {
                 const int first = readStart[std::size_t(c)], last = readStart[std::size_t(c) + 1];
                 if (first == last) continue;
-                const detail::JacobianRow<D>& rn = rowAt(c, 0);
-                const detail::JacobianRow<D>& rt = rowAt(c, 1);
+                const ContactRows& q = contactRows[std::size_t(c)];
                 const double* H = &hinv[std::size_t(3 * c)];
-                double na[2][3], ta[2][3], hn[2][3], ht[2][3];
+                double na[6], ta[6], hn[6], ht[6];  // by side * 3 + component
                 for (int sd = 0; sd < 2; ++sd) {
-                    const double nv[3] = {rn.lin[sd].x, rn.lin[sd].y, rn.ang[sd]};
-                    const double tv[3] = {rt.lin[sd].x, rt.lin[sd].y, rt.ang[sd]};
                     for (int a = 0; a < 3; ++a) {
-                        na[sd][a] = nv[a];
-                        ta[sd][a] = tv[a];
-                        hn[sd][a] = H[0] * nv[a] + H[1] * tv[a];
-                        ht[sd][a] = H[1] * nv[a] + H[2] * tv[a];
+                        const double nv = q.n[sd][a], tv = q.t[sd][a];
+                        na[3 * sd + a] = nv;
+                        ta[3 * sd + a] = tv;
+                        hn[3 * sd + a] = H[0] * nv + H[1] * tv;
+                        ht[3 * sd + a] = H[1] * nv + H[2] * tv;
                     }
                 }
                 for (int r = first; r < last; ++r) {
                     const unsigned code = readCode[std::size_t(r)];
-                    const unsigned sa = code >> 6, a = (code >> 4) & 3u, sb = (code >> 2) & 3u, bb = code & 3u;
-                    values[readPos[std::size_t(r)]] += na[sa][a] * hn[sb][bb] + ta[sa][a] * ht[sb][bb];
+                    const unsigned ia = code >> 4, ib = code & 15u;
+                    values[readPos[std::size_t(r)]] += na[ia] * hn[ib] + ta[ia] * ht[ib];
                 }
             }
             entry = kt.size();  // every entry counts in the work, read or not
@@ -366,7 +397,9 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                         kpos[t] = int(at - rows);
                         if (t >= bodyEntries && kbFactor.readsSymmetric(kt[t].row(), kt[t].col())) {
                             readPos.push_back(kpos[t]);
-                            readCode.push_back(kcode[t - bodyEntries]);
+                            const unsigned code = kcode[t - bodyEntries];  // as (sa * 3 + a) << 4 | (sb * 3 + bb)
+                            readCode.push_back(std::uint8_t(((code >> 6) * 3 + ((code >> 4) & 3u)) << 4 |
+                                                            (((code >> 2) & 3u) * 3 + (code & 3u))));
                             ++readStart[std::size_t(kcontact[t - bodyEntries]) + 1];
                         }
                     }
