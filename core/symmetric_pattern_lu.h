@@ -315,7 +315,22 @@ public:
         for (int j = 0; j < n; ++j) {  // L w' = w
             const double wj = w[std::size_t(j)];
             if (wj == 0.0) continue;
-            for (int p = an.colPtr[std::size_t(j)]; p < an.colPtr[std::size_t(j) + 1]; ++p)
+            int p = an.colPtr[std::size_t(j)];
+            const int end = an.colPtr[std::size_t(j) + 1];
+#if defined(__GNUC__) || defined(__clang__)
+            // Two rows at a time, lane by lane the scalar loop's operations (the rows of a column are distinct).
+            const Pair wjj = {wj, wj};
+            for (; p + 1 < end; p += 2) {
+                double* t0 = w.data() + an.lowerRow[std::size_t(p)];
+                double* t1 = w.data() + an.lowerRow[std::size_t(p) + 1];
+                const Pair lp = {lower[stride * std::size_t(p)], lower[stride * (std::size_t(p) + 1)]};
+                Pair t = {*t0, *t1};
+                t -= lp * wjj;
+                *t0 = t[0];
+                *t1 = t[1];
+            }
+#endif
+            for (; p < end; ++p)
                 w[std::size_t(an.lowerRow[std::size_t(p)])] -= lower[stride * std::size_t(p)] * wj;
         }
         for (int j = 0; j < n; ++j) w[std::size_t(j)] /= d_[std::size_t(j)];
@@ -438,7 +453,27 @@ private:
         const int last = an.colPtr[std::size_t(i + S - 1)];
         const int m = filled_[std::size_t(i + S - 1)];
         const int* rows = lowerRow + last;
-        for (int q = 0; q < m; ++q) {
+        int q = 0;
+#if defined(__GNUC__) || defined(__clang__)
+        // Two rows at a time as one two-lane operation: lane by lane the same multiplications and subtractions in
+        // the same order, so the same bits as the scalar loop below (the rows of a column are distinct).
+        Pair yg[S];
+        for (int g = 0; g < S; ++g) yg[g] = Pair{yv[g], yv[g]};
+        for (; q + 1 < m; q += 2) {
+            double* t0 = y + rows[q];
+            double* t1 = y + rows[q + 1];
+            Pair v = {*t0, *t1};
+#pragma GCC unroll 4
+            for (int g = 0; g < S; ++g) {
+                Pair c;
+                std::memcpy(&c, col[g] + q, sizeof c);
+                v -= c * yg[g];
+            }
+            *t0 = v[0];
+            *t1 = v[1];
+        }
+#endif
+        for (; q < m; ++q) {
             double v = y[rows[q]];
 #pragma GCC unroll 4
             for (int g = 0; g < S; ++g) v -= col[g][q] * yv[g];
