@@ -237,19 +237,9 @@ public:
 #if defined(__GNUC__) || defined(__clang__)
                 if (const int run = an.reachRun[std::size_t(t)]; run > 1) {
                     switch (run) {
-                        case 2: eliminateRunPair<2>(i, lowerRow, lu, yz); break;
-                        case 3: eliminateRunPair<3>(i, lowerRow, lu, yz); break;
-                        default: eliminateRunPair<4>(i, lowerRow, lu, yz); break;
-                    }
-                    for (int g = 0; g < run; ++g) {  // as one column at a time would, in column order
-                        const std::size_t ig = std::size_t(i + g);
-                        const double yi = runYZ_[std::size_t(g)][0], zi = runYZ_[std::size_t(g)][1];
-                        const double lki = zi / d_[ig], uik = yi / d_[ig];
-                        dk -= lki * yi;
-                        const std::size_t end = std::size_t(an.colPtr[ig] + filled_[ig]);
-                        lu[2 * end] = lki;
-                        lu[2 * end + 1] = uik;
-                        ++filled_[ig];
+                        case 2: eliminateRunPair<2>(i, lowerRow, lu, yz, dk); break;
+                        case 3: eliminateRunPair<3>(i, lowerRow, lu, yz, dk); break;
+                        default: eliminateRunPair<4>(i, lowerRow, lu, yz, dk); break;
                     }
                     t += run;
                     continue;
@@ -381,16 +371,9 @@ private:
                     continue;
                 }
                 switch (run) {
-                    case 2: eliminateRun<2>(i, lowerRow, l, y); break;
-                    case 3: eliminateRun<3>(i, lowerRow, l, y); break;
-                    default: eliminateRun<4>(i, lowerRow, l, y); break;
-                }
-                for (int g = 0; g < run; ++g) {  // L(k, i + g) in column order, as one column at a time would
-                    const std::size_t ig = std::size_t(i + g);
-                    const double lki = runY_[std::size_t(g)] / d_[ig];
-                    dk -= lki * runY_[std::size_t(g)];
-                    l[an.colPtr[ig] + filled_[ig]] = lki;
-                    ++filled_[ig];
+                    case 2: eliminateRun<2>(i, lowerRow, l, y, dk); break;
+                    case 3: eliminateRun<3>(i, lowerRow, l, y, dk); break;
+                    default: eliminateRun<4>(i, lowerRow, l, y, dk); break;
                 }
             }
             if (!(dk != 0.0) || !std::isfinite(dk)) return false;
@@ -402,7 +385,7 @@ private:
 #if defined(__GNUC__) || defined(__clang__)
     // eliminateRun's two-lane form for the L D U branch: L's and U's entries together, y and z together.
     template <int S>
-    void eliminateRunPair(int i, const int* lowerRow, const double* lu, double* yz) {
+    void eliminateRunPair(int i, const int* lowerRow, double* lu, double* yz, double& dk) {
         const SymmetricPatternAnalysis& an = *an_;
         Pair yzv[S];
         const double* col[S];
@@ -411,11 +394,13 @@ private:
             std::memcpy(&v, at, sizeof v);
             return v;
         };
+#pragma GCC unroll 4
         for (int g = 0; g < S; ++g) {
             const double* lg = lu + 2 * std::size_t(an.colPtr[std::size_t(i + g)]);
             yzv[g] = load(yz + 2 * std::size_t(i + g));
             yz[2 * std::size_t(i + g)] = 0.0;
             yz[2 * std::size_t(i + g) + 1] = 0.0;
+#pragma GCC unroll 4
             for (int h = g + 1; h < S; ++h) {
                 const Pair v = load(yz + 2 * std::size_t(i + h)) - load(lg + 2 * (h - g - 1)) * yzv[g];
                 std::memcpy(yz + 2 * std::size_t(i + h), &v, sizeof v);
@@ -431,22 +416,37 @@ private:
             for (int g = 0; g < S; ++g) v -= load(col[g] + 2 * q) * yzv[g];
             std::memcpy(target, &v, sizeof v);
         }
-        for (int g = 0; g < S; ++g) runYZ_[std::size_t(g)] = yzv[g];
+        // Row k's entries L(k, i + g) and U(i + g, k) in column order, and their share of its diagonal, as one
+        // column at a time.
+#pragma GCC unroll 4
+        for (int g = 0; g < S; ++g) {
+            const std::size_t ig = std::size_t(i + g);
+            const double yi = yzv[g][0], zi = yzv[g][1];
+            const double lki = zi / d_[ig], uik = yi / d_[ig];
+            dk -= lki * yi;
+            const std::size_t end = std::size_t(an.colPtr[ig] + filled_[ig]);
+            lu[2 * end] = lki;
+            lu[2 * end + 1] = uik;
+            ++filled_[ig];
+        }
     }
 #endif
 
-    // The elimination of the run of S chained columns i, ..., i + S - 1 from the running row y, leaving their y
-    // entries in runY_. Column i + g's filled entries are rows i + g + 1, ..., i + S - 1 followed by the m rows
-    // column i + S - 1 has filled; each y entry gets its subtractions in column order, as one column at a time.
+    // The elimination of the run of S chained columns i, ..., i + S - 1 from the running row y (row k), then row k's
+    // entries L(k, i + g) and their share of its diagonal dk. Column i + g's filled entries are rows i + g + 1, ...,
+    // i + S - 1 followed by the m rows column i + S - 1 has filled; each y entry gets its subtractions in column
+    // order, as one column at a time.
     template <int S>
-    void eliminateRun(int i, const int* lowerRow, const double* l, double* y) {
+    void eliminateRun(int i, const int* lowerRow, double* l, double* y, double& dk) {
         const SymmetricPatternAnalysis& an = *an_;
         double yv[S];
         const double* col[S];
+#pragma GCC unroll 4
         for (int g = 0; g < S; ++g) {
             const double* lg = l + an.colPtr[std::size_t(i + g)];
             yv[g] = y[i + g];
             y[i + g] = 0.0;
+#pragma GCC unroll 4
             for (int h = g + 1; h < S; ++h) y[i + h] -= lg[h - g - 1] * yv[g];
             col[g] = lg + (S - 1 - g);
         }
@@ -479,7 +479,15 @@ private:
             for (int g = 0; g < S; ++g) v -= col[g][q] * yv[g];
             y[rows[q]] = v;
         }
-        for (int g = 0; g < S; ++g) runY_[std::size_t(g)] = yv[g];
+        // Row k's entries L(k, i + g) in column order, and their share of its diagonal, as one column at a time.
+#pragma GCC unroll 4
+        for (int g = 0; g < S; ++g) {
+            const std::size_t ig = std::size_t(i + g);
+            const double lki = yv[g] / d_[ig];
+            dk -= lki * yv[g];
+            l[an.colPtr[ig] + filled_[ig]] = lki;
+            ++filled_[ig];
+        }
     }
 
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
@@ -490,10 +498,6 @@ private:
     bool symmetric_ = false;
     std::vector<int> filled_;  // factorize's scratch
     std::vector<double> yz_, y_;
-    double runY_[SymmetricPatternAnalysis::kMaxRun] = {};
-#if defined(__GNUC__) || defined(__clang__)
-    Pair runYZ_[SymmetricPatternAnalysis::kMaxRun] = {};
-#endif
     mutable std::vector<double> work_;
 };
 
