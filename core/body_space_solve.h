@@ -117,12 +117,16 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
 // each entry in the order given, the place in the matrix's values each went to, and whether it was the first there.
 struct ColumnAssembly {
     std::vector<int> start, fill, rows, origin;
+    std::vector<int> rowStart, byRow;  // the entries bucketed by row (long columns)
     std::vector<double> values;
     int planSize = -1;
     int lastSize = -1;  // the n of the (row, column) pairs in planRowCol when no plan is recorded (assembleOrRefill)
     std::vector<int> planRowCol, planSlot;
     std::vector<std::uint8_t> planFirst;
 };
+
+// Entries per column (on average) from which assembleColumns buckets them by row before its insertion sort.
+constexpr std::size_t kBucketRowsPerColumn = 32;
 
 // The column-major n x n matrix of `entries` (row, column, value): duplicates summed in the order given, rows ascending
 // within each column. The same matrix, to the bit, as Eigen's setFromTriplets, which sums in the same order, without
@@ -139,7 +143,20 @@ void assembleColumns(int n, const std::vector<Eigen::Triplet<double>>& entries, 
     ws.rows.resize(entries.size());
     ws.values.resize(entries.size());
     if (kPlan) ws.origin.resize(entries.size());
-    for (std::size_t t = 0; t < entries.size(); ++t) {
+    // Long columns (the interior point's body systems: dozens of entries per column) are bucketed by row first, then
+    // by column, both stable: each column's entries come out in row order, equal rows in the order given, and the
+    // insertion sort below finds them sorted. Short columns go to the insertion sort directly.
+    const bool bucketRows = entries.size() >= kBucketRowsPerColumn * std::size_t(n);
+    if (bucketRows) {
+        ws.rowStart.assign(std::size_t(n) + 1, 0);
+        for (const Eigen::Triplet<double>& e : entries) ++ws.rowStart[std::size_t(e.row()) + 1];
+        for (int r = 0; r < n; ++r) ws.rowStart[std::size_t(r) + 1] += ws.rowStart[std::size_t(r)];
+        ws.byRow.resize(entries.size());
+        for (std::size_t t = 0; t < entries.size(); ++t)
+            ws.byRow[std::size_t(ws.rowStart[std::size_t(entries[t].row())]++)] = int(t);
+    }
+    for (std::size_t u = 0; u < entries.size(); ++u) {
+        const std::size_t t = bucketRows ? std::size_t(ws.byRow[u]) : u;
         const Eigen::Triplet<double>& e = entries[t];
         const int p = ws.fill[std::size_t(e.col())]++;
         ws.rows[std::size_t(p)] = e.row();

@@ -1,8 +1,10 @@
 // tests/test_symmetric_lu.cpp — SymmetricPatternLu (core/symmetric_pattern_lu.h), the sparse LU on a symmetric
 // pattern that the active-set path factors its systems with: answers against a dense LU, refusals, the pattern cache,
-// and its paired and run-wise eliminations checked bit for bit against one entry at a time.
+// and its paired and run-wise eliminations checked bit for bit against one entry at a time; and the column assembly
+// of its systems (core/body_space_solve.h) against Eigen's setFromTriplets, bit for bit.
 #include "test_support.h"
 
+#include "body_space_solve.h"
 #include "symmetric_pattern_lu.h"
 
 #include <Eigen/Dense>
@@ -309,6 +311,49 @@ TEST_CASE("symmetric-pattern LU: with symmetric values it reads one entry of eac
     // The unsymmetric variant reads every entry: the garbled matrix is another system there.
     REQUIRE(lu.factorize(garbled, false));
     CHECK((s * lu.solve(b) - b).norm() > 1e-3 * b.norm());
+}
+
+TEST_CASE("column assembly: short and long columns give setFromTriplets' matrix to the bit, and a refill its values") {
+    // Entries in a scrambled order with many duplicates whose sums depend on their order (values of very different
+    // sizes): few per column (the insertion sort) and dozens per column (bucketed by row first).
+    for (const int perColumn : {3, 60}) {
+        CAPTURE(perColumn);
+        const int n = 50;
+        std::uint64_t state = 0x9e3779b97f4a7c15ull;
+        auto next = [&state]() {
+            state = state * 6364136223846793005ull + 1442695040888963407ull;
+            return state >> 33;
+        };
+        std::vector<Eigen::Triplet<double>> entries;
+        for (int t = 0; t < n * perColumn; ++t) {
+            const int col = int(next() % std::uint64_t(n));
+            const int row = int(next() % std::uint64_t(perColumn < 10 ? n : 12)) + (perColumn < 10 ? 0 : col % (n - 12));
+            const double value = (next() % 2 ? 1.0 : -1.0) * std::ldexp(1.0 + double(next() % 1000) / 7.0,
+                                                                         int(next() % 60) - 30);
+            entries.emplace_back(row, col, value);
+        }
+        Eigen::SparseMatrix<double> expected(n, n);
+        expected.setFromTriplets(entries.begin(), entries.end());
+        expected.makeCompressed();
+        auto same = [&](const Eigen::SparseMatrix<double>& got) {
+            REQUIRE(got.nonZeros() == expected.nonZeros());
+            CHECK(std::equal(got.outerIndexPtr(), got.outerIndexPtr() + n + 1, expected.outerIndexPtr()));
+            CHECK(std::equal(got.innerIndexPtr(), got.innerIndexPtr() + got.nonZeros(), expected.innerIndexPtr()));
+            CHECK(std::memcmp(got.valuePtr(), expected.valuePtr(), sizeof(double) * std::size_t(got.nonZeros())) == 0);
+        };
+        detail::ColumnAssembly ws;
+        Eigen::SparseMatrix<double> plain, planned;
+        detail::assembleColumns(n, entries, plain, ws);
+        same(plain);
+        detail::assembleColumns<true>(n, entries, planned, ws);
+        same(planned);
+        // A refill with the same sequence of positions writes the same sums.
+        std::fill(planned.valuePtr(), planned.valuePtr() + planned.nonZeros(), 0.0);
+        REQUIRE(detail::refillColumns(n, entries, planned, ws));
+        same(planned);
+        // The bucketed columns really were long, the short ones short (both branches ran).
+        CHECK((entries.size() >= detail::kBucketRowsPerColumn * std::size_t(n)) == (perColumn >= 32));
+    }
 }
 
 }  // TEST_SUITE
