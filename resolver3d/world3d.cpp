@@ -55,9 +55,14 @@ BodyId World3::createBody(const BodyDef3& def, const std::vector<Shape3>& shapes
         info.invMass = 1.0 / mass;
         info.localCenter = D3::scale(1.0 / mass, moment);
         info.inertia = inertiaOrigin - shift(mass, info.localCenter);
-        const std::string inertia = checkInertia3(info.inertia);  // the check restore() makes
+        const std::string inertia = checkInertia3(info.inertia);  // the checks restore() makes
         if (!inertia.empty()) return fail(inertia);
         info.invInertia = info.inertia.inverse();
+        // An ill-conditioned tensor (a sliver of a mesh) inverts inaccurately: such a body could not be restored
+        // from the world's own snapshot, so it is refused here.
+        if (!checkInverseInertia3(info.inertia, info.invInertia).empty())
+            return fail("body: inertia tensor too ill-conditioned to invert (I * I^-1 differs from the identity by "
+                        "more than 1e-6)");
     }
     BodyState3 state;
     state.position = def.position;

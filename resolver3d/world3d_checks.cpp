@@ -108,6 +108,12 @@ std::string checkInertia3(const Mat3& I) {
     return {};
 }
 
+std::string checkInverseInertia3(const Mat3& I, const Mat3& invI) {
+    const Mat3 product = I * invI;
+    if (!((product - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-6)) return "body: invInertia is not the inverse of inertia";
+    return {};
+}
+
 std::string checkMotion3(const BodyState3& s) {
     if (!within(s.position, policy::kMaxStateCoordinate) || !within(s.center, policy::kMaxStateCoordinate))
         return "position outside the supported range (|x| <= 1e9 m)";
@@ -128,8 +134,8 @@ std::string checkBodyRecord3(const BodyState3& s, const BodyInfo3& info) {
         const Mat3& I = info.inertia;
         const std::string inertia = checkInertia3(I);
         if (!inertia.empty()) return inertia;
-        const Mat3 product = I * info.invInertia;
-        if (!((product - Mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-6)) return "body: invInertia is not the inverse of inertia";
+        const std::string inverse = checkInverseInertia3(I, info.invInertia);
+        if (!inverse.empty()) return inverse;
     } else if (info.mass != 0.0 || info.invMass != 0.0 || !info.inertia.isZero(0.0) || !info.invInertia.isZero(0.0)) {
         return "body: a static or kinematic body has no mass or inertia";
     }

@@ -21,6 +21,9 @@ std::string checkShape3(const Shape3& shape);
 std::string checkBodyDef3(const BodyDef3& def, const std::vector<Shape3>& shapes);
 /// Why an inertia tensor (kg m^2) is not symmetric positive definite, or empty.
 std::string checkInertia3(const Mat3& inertia);
+/// Why invInertia is not inertia's inverse to 1e-6 (|I I^-1 - 1| entrywise), or empty: checked at creation and on
+/// restore alike (an ill-conditioned tensor fails it even when it is positive definite).
+std::string checkInverseInertia3(const Mat3& inertia, const Mat3& invInertia);
 /// Why a body's motion is outside the state range of core/input_policy.h (not finite, |position| > 1e9 m,
 /// |velocity| > 1e9), or empty: the check after every step and on restore.
 std::string checkMotion3(const BodyState3& state);
