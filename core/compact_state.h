@@ -16,15 +16,20 @@
 //   v slot count, v free-list length + v slot each, v body count + (z slot delta from the previous dense body,
 //   v generation) per dense body ("z": a signed delta as a zigzag varint),
 //   per non-static body in dense order: u8 flags (bit 0 awake, bit 1 some velocity is not +0.0, bit 2 sleepTime is
-//   not +0.0), the pose doubles, then the velocity doubles if bit 1, then sleepTime if bit 2,
+//   not +0.0, bit 3 the centre of mass has the bits of the position), the pose doubles (position, rotation, then the
+//   centre unless bit 3), then the velocity doubles if bit 1, then sleepTime if bit 2,
 //   v cache entries + per entry (v slotA delta, then v slotB delta when slotA repeats, else z slotB - slotA; u8
-//   shapeA << 4 | shapeB when both < 15, else 0xFF, v shapeA, v shapeB; u32 feature; v basicMask; v cost; u8
-//   impulse flags (bit 0 the normal impulse, bits 1-3 the tangent impulse's components are not +0.0) and those
-//   doubles),
+//   shapeA << 4 | shapeB when both < 15, else 0xFF, v shapeA, v shapeB; the feature as z (its delta from the
+//   previous entry's) when the entry has the previous entry's two slots, else as u32; the basicMask as v (bits 0-22
+//   << 1 | 1 when any of bits 23-31 is set) and then, when set, v (bits 23-31 in reverse order, so that the flags
+//   of core/step_support.h that most entries carry take one byte); v cost; u8 impulse codes (2 bits each for the
+//   normal impulse and the tangent impulse's 3 components, from bit 0: 0 = +0.0, 1 = -0.0, 2 = a double follows)
+//   and those doubles),
 //   v touching pairs + per pair (v a delta, v b delta from the previous b when a repeats, else from a).
 // Small deltas keep almost every varint at one byte, which is also what makes decoding fast.
 //   then u64 XXH3 of every byte before it.
-// Invariants: a zero flag means the value is exactly +0.0 (bits 0), so every bit is restored; keys come out in the
+// Invariants: a zero's code says which zero it is (a 2D tangent impulse has a -0.0 component whenever it points
+// along -x or -y), so every bit is restored; keys come out in the
 // order the step keeps them (cache by key, touching pairs ascending; the reader checks the pairs and the cache sorts
 // entries that are not). Values are restored
 // as saved: the checksum, the ids and the layout are checked, not the numbers (a state saved from a world is as
@@ -209,12 +214,30 @@ private:
 
 namespace compact_detail {
 
-constexpr std::uint8_t kFormat = 2;
-constexpr std::uint8_t kAwake = 1, kMoving = 2, kSleeping = 4;  // body flags (kSleeping: sleepTime != +0.0)
+constexpr std::uint8_t kFormat = 3;
+// Body flags (kSleeping: sleepTime != +0.0; kCentered: the centre of mass has the position's bits, as for every body
+// whose centre of mass is its origin, and is not written).
+constexpr std::uint8_t kAwake = 1, kMoving = 2, kSleeping = 4, kCentered = 8;
 
 /// Signed deltas as varints: 0, -1, 1, -2, ... -> 0, 1, 2, 3, ...
 inline std::uint64_t zigzag(std::int64_t v) { return (std::uint64_t(v) << 1) ^ std::uint64_t(v >> 63); }
 inline std::int64_t unzigzag(std::uint64_t v) { return std::int64_t(v >> 1) ^ -std::int64_t(v & 1u); }
+
+/// Bits 23-31 of a warm-start entry's basicMask in reverse order (its own inverse): the flags most entries carry
+/// (kActiveSetEntry, kSettledEntry and its run) land in bits 1-4.
+inline std::uint32_t reverseHighBits(std::uint32_t high) {
+    std::uint32_t r = 0;
+    for (int b = 0; b < 9; ++b) r |= ((high >> b) & 1u) << (8 - b);
+    return r;
+}
+
+/// An impulse's 2-bit code: 0 = +0.0, 1 = -0.0, 2 = the double is written.
+constexpr unsigned kImpulsePlusZero = 0, kImpulseMinusZero = 1, kImpulseValue = 2;
+inline unsigned impulseCode(double v) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    return bits == 0 ? kImpulsePlusZero : bits == (std::uint64_t(1) << 63) ? kImpulseMinusZero : kImpulseValue;
+}
 
 inline bool isPositiveZero(double v) {
     std::uint64_t bits;
@@ -240,10 +263,10 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
     const auto& slots = store.slots();
     const auto& freeList = store.freeList();
     const std::size_t n = store.denseToSlot().size();
-    // Upper bound: header, ids (10 + 5 bytes each), bodies, cache entries (5 + 5 + 3 + 3 + 4 + 5 + 5 + 1 + 32),
+    // Upper bound: header, ids (10 + 5 bytes each), bodies, cache entries (5 + 5 + 3 + 3 + 5 + 4 + 2 + 5 + 1 + 32),
     // pairs (2 x 10).
     w.reserve(1 + 10 + 8 * F::kGravity + 10 + 30 + 5 * freeList.size() + 15 * n +
-              n * (1 + 8 * (F::kPose + F::kVelocity + 1)) + 10 + 63 * cache.entries().size() + 10 +
+              n * (1 + 8 * (F::kPose + F::kVelocity + 1)) + 10 + 65 * cache.entries().size() + 10 +
               20 * touching.size() + 8);
     w.u8(kFormat);
     w.varint(stepCount);
@@ -262,19 +285,25 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
     }
     const auto& hot = store.hotArray();
     const auto& cold = store.coldArray();
+    static_assert(2 * F::kCenter <= F::kPose, "the pose starts with the position and ends with the centre");
     for (std::size_t d = 0; d < n; ++d) {
         if (isStatic(cold[d])) continue;  // nothing of a static body changes
         const auto& s = hot[d];
         bool moving = false;
         F::velocity(s, [&](double v) { moving = moving || !isPositiveZero(v); });
         const bool sleeping = !isPositiveZero(cold[d].sleepTime);
-        w.u8(std::uint8_t((cold[d].awake ? kAwake : 0) | (moving ? kMoving : 0) | (sleeping ? kSleeping : 0)));
-        F::pose(s, [&](double v) { w.f64(v); });
+        double pose[F::kPose];
+        int at = 0;
+        F::pose(s, [&](double v) { pose[at++] = v; });
+        const bool centered = std::memcmp(pose, pose + F::kPose - F::kCenter, sizeof(double) * F::kCenter) == 0;
+        w.u8(std::uint8_t((cold[d].awake ? kAwake : 0) | (moving ? kMoving : 0) | (sleeping ? kSleeping : 0) |
+                          (centered ? kCentered : 0)));
+        for (int i = 0; i < F::kPose - (centered ? F::kCenter : 0); ++i) w.f64(pose[i]);
         if (moving) F::velocity(s, [&](double v) { w.f64(v); });
         if (sleeping) w.f64(cold[d].sleepTime);
     }
     w.varint(cache.entries().size());
-    std::uint32_t prevA = 0, prevB = 0;
+    std::uint32_t prevA = 0, prevB = 0, prevFeature = 0;
     for (const ContactKey& e : cache.entries()) {
         w.varint(e.slotA - prevA);
         w.varint(e.slotA == prevA ? e.slotB - prevB : zigzag(std::int64_t(e.slotB) - std::int64_t(e.slotA)));
@@ -285,15 +314,19 @@ void saveCompact(CompactState& out, std::uint64_t stepCount, const Def& def, con
             w.varint(e.shapeA);
             w.varint(e.shapeB);
         }
-        w.u32(e.feature);
-        w.varint(e.basicMask);
+        if (e.slotA == prevA && e.slotB == prevB) w.varint(zigzag(std::int64_t(e.feature) - std::int64_t(prevFeature)));
+        else w.u32(e.feature);
+        prevFeature = e.feature;
+        const std::uint32_t high = e.basicMask >> 23;
+        w.varint(std::uint64_t(e.basicMask & 0x7FFFFFu) << 1 | (high != 0 ? 1u : 0u));
+        if (high != 0) w.varint(reverseHighBits(high));
         w.varint(e.cost);
         const double impulses[4] = {e.normalImpulse, e.tangentImpulse[0], e.tangentImpulse[1], e.tangentImpulse[2]};
-        std::uint8_t nonzero = 0;
-        for (int i = 0; i < 4; ++i) nonzero |= isPositiveZero(impulses[i]) ? 0 : std::uint8_t(1u << i);
-        w.u8(nonzero);
+        unsigned codes = 0;
+        for (int i = 0; i < 4; ++i) codes |= impulseCode(impulses[i]) << (2 * i);
+        w.u8(std::uint8_t(codes));
         for (int i = 0; i < 4; ++i)
-            if (nonzero & (1u << i)) w.f64(impulses[i]);
+            if (((codes >> (2 * i)) & 3u) == kImpulseValue) w.f64(impulses[i]);
         prevA = e.slotA;
         prevB = e.slotB;
     }
@@ -351,8 +384,9 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
     for (std::size_t d = 0; d < denseToSlot.size() && r.ok(); ++d) {
         if (isStatic(cold[d])) continue;
         const std::uint8_t flags = r.u8();
-        if (flags > (kAwake | kMoving | kSleeping)) r.fail("compact state: bad body flags");
-        const int count = F::kPose + ((flags & kMoving) ? F::kVelocity : 0) + ((flags & kSleeping) ? 1 : 0);
+        if (flags > (kAwake | kMoving | kSleeping | kCentered)) r.fail("compact state: bad body flags");
+        const int count = F::kPose - ((flags & kCentered) ? F::kCenter : 0) + ((flags & kMoving) ? F::kVelocity : 0) +
+                          ((flags & kSleeping) ? 1 : 0);
         if (r.need(8 * std::size_t(count))) {
             for (int i = 0; i < count; ++i) {
                 if (!std::isfinite(r.f64U())) {
@@ -368,7 +402,7 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
     const std::size_t entryCount = r.ok() ? std::size_t(r.varint()) : 0;
     if (entryCount > r.remaining() / 8) return "compact state: cache entry count exceeds the data";
     entries.resize(entryCount);
-    std::uint32_t prevA = 0, prevB = 0;
+    std::uint32_t prevA = 0, prevB = 0, prevFeature = 0;
     for (std::size_t i = 0; i < entries.size() && r.ok(); ++i) {
         ContactKey& e = entries[i];
         e.slotA = prevA + std::uint32_t(r.varint());
@@ -382,13 +416,22 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
             e.shapeA = std::uint16_t(r.varint());
             e.shapeB = std::uint16_t(r.varint());
         }
-        e.feature = r.u32();
-        e.basicMask = std::uint32_t(r.varint());  // (WarmStartCache::replace() sorts entries that come unsorted)
+        const bool samePair = e.slotA == prevA && e.slotB == prevB;
+        e.feature = samePair ? std::uint32_t(std::int64_t(prevFeature) + unzigzag(r.varint())) : r.u32();
+        prevFeature = e.feature;
+        const std::uint64_t low = r.varint();  // (WarmStartCache::replace() sorts entries that come unsorted)
+        const std::uint64_t high = (low & 1u) ? r.varint() : 0;
+        if (low > (std::uint64_t(0x7FFFFFu) << 1 | 1u) || ((low & 1u) != 0 && (high == 0 || high > 0x1FFu)))
+            r.fail("compact state: bad basis mask");
+        e.basicMask = std::uint32_t(low >> 1) | reverseHighBits(std::uint32_t(high & 0x1FFu)) << 23;
         e.cost = std::uint32_t(r.varint());
-        const std::uint8_t nonzero = r.u8();
-        if (nonzero > 15) r.fail("compact state: bad impulse flags");
+        const unsigned codes = r.u8();
         double* impulses[4] = {&e.normalImpulse, &e.tangentImpulse[0], &e.tangentImpulse[1], &e.tangentImpulse[2]};
-        for (int k = 0; k < 4; ++k) *impulses[k] = (nonzero & (1u << k)) ? r.f64() : 0.0;
+        for (int k = 0; k < 4; ++k) {
+            const unsigned code = (codes >> (2 * k)) & 3u;
+            if (code > kImpulseValue) r.fail("compact state: bad impulse code");
+            *impulses[k] = code == kImpulseValue ? r.f64() : code == kImpulseMinusZero ? -0.0 : 0.0;
+        }
         if (!(std::isfinite(e.normalImpulse) && std::isfinite(e.tangentImpulse[0]) &&
               std::isfinite(e.tangentImpulse[1]) && std::isfinite(e.tangentImpulse[2])))
             r.fail("compact state: a cached impulse is not finite");
@@ -420,7 +463,12 @@ std::string restoreCompactState(const std::uint8_t* data, std::size_t size, std:
     for (std::size_t d = 0; d < denseToSlot.size(); ++d) {
         if (isStatic(cold[d])) continue;
         const std::uint8_t flags = b.u8();
-        F::pose(hot[d], [&](double& v) { v = b.f64U(); });
+        double pose[F::kPose];
+        const int stored = F::kPose - ((flags & kCentered) ? F::kCenter : 0);
+        for (int i = 0; i < stored; ++i) pose[i] = b.f64U();
+        for (int i = stored; i < F::kPose; ++i) pose[i] = pose[i - (F::kPose - F::kCenter)];
+        int at = 0;
+        F::pose(hot[d], [&](double& v) { v = pose[at++]; });
         F::velocity(hot[d], [&](double& v) { v = (flags & kMoving) ? b.f64U() : 0.0; });
         cold[d].sleepTime = (flags & kSleeping) ? b.f64U() : 0.0;
         cold[d].awake = (flags & kAwake) != 0;

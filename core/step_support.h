@@ -114,11 +114,16 @@ constexpr std::uint32_t kDeclinedEntry = 1u << 23;
 /// against more than 15 s/step).
 constexpr int kActiveSetMinContacts = 64;
 /// Islands of at least this many contacts go to the active-set path first even when Lemke answered them last step,
-/// and the path restarts them from its interior-point answer when their warm face breaks (2D). Below it Lemke's warm
-/// start is cheaper (the 20-row testbed pyramid, ~800 contacts: 1.02 ms/step on Lemke, 1.24 on the path), and the
-/// restart's answers keep islands on the path that cost less on Lemke (the five-level card house: 1.03 against
-/// 0.47 ms/step); above it a landing pile's warm starts cost Lemke minutes (docs/solver.md).
-constexpr int kPathFirstContacts = 1024;
+/// and the path restarts them from its interior-point answer when their warm face breaks (2D). While a testbed pyramid
+/// lands, each step adds a row of contacts to one island of 400-900, and Lemke's warm start repairs the guess in
+/// 50-180 pivots of O(n) each, where the restart takes one interior-point solve (20-25 factorisations of the bodies'
+/// system). Against 1024: the 20-row pyramid's first 120 steps 238 -> 164 ms (300 steps 0.98 -> 0.72 ms/step), the
+/// 40-row's 300 steps 6.3 -> 5.7 ms/step. At 256 the 20-row pyramid's smaller islands cost twice as much on the path;
+/// the five-level card house (136 contacts) keeps Lemke, where it costs half as much (docs/solver-notes.md).
+constexpr int kPathFirstContacts = 384;
+/// Islands of at least this many contacts (Box2D v3's large pyramids, the 30- and 40-row testbed pyramids) keep their
+/// answers, not a prediction, for the next step, and end a near miss at the floor (kFloorExit).
+constexpr int kHugeIslandContacts = 1024;
 /// On those islands a solve whose warm face ends within this many tolerances of the certificate is a near miss
 /// there (ActiveSetOptions::floorExit): on the 100-row large pyramid no such solve was certified by the 20 more
 /// factorisations of the later phases (0 of 8 in 300 steps), each ~60 ms.

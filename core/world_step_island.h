@@ -214,6 +214,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         // starts take thousands of pivots of O(n) each (minutes on the 40-row testbed pyramid), where the path with
         // its interior-point restart takes a few factorisations (kPathFirstContacts, step_support.h).
         const bool bigIsland = nc >= kPathFirstContacts && !setup.declined;
+        const bool hugeIsland = nc >= kHugeIslandContacts && !setup.declined;
         if (D::kDim == 2 && nc >= kActiveSetMinContacts && (activeSetFirst || bigIsland)) {
             std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
             warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
@@ -231,7 +232,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             fastOptions.coldInteriorPoint = false;
             // A big island's iterations are factorisations of thousands of unknowns: a near miss at the floor of
             // the warm start's face ends there (kFloorExit, step_support.h).
-            if (bigIsland) {
+            if (hugeIsland) {
                 fastOptions.floorExit = kFloorExit;
                 fastOptions.stickWrongWaySlip = true;
                 fastOptions.reuseSupersetPattern = true;
@@ -244,7 +245,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             // large pyramid the prediction cost 12 % more instructions over 300 steps (docs/solver-notes.md).
             std::vector<double>& incoming = worker.incoming;
             if constexpr (D::kDim == 2) {
-                if (!bigIsland) {
+                if (!hugeIsland) {
                     incoming.resize(3 * ioBodies.size());
                     for (std::size_t kk = 0; kk < ioBodies.size(); ++kk) {
                         const ResolverBody<D>& B = ioBodies[kk];
@@ -259,7 +260,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 }
             }
             ResolverOptions pathOptions = options;
-            if (handedOver) pathOptions.tangentDeadZone = 0.0;  // the path resolves creep below it (kSettledEntry)
+            // The path resolves creep below the dead zone (kSettledEntry). An island that lands on the path is never
+            // handed over, so below kHugeIslandContacts it takes tangential velocities exactly from the start: with the
+            // 1e-7 m/s dead zone the settled 20-row testbed pyramid moved 2.2e-8 m from 5 s to 25 s, without 4.4e-10.
+            if (handedOver || (bigIsland && !hugeIsland)) pathOptions.tangentDeadZone = 0.0;
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;

@@ -138,7 +138,7 @@ void World2::transferState(Io& io, Self& world) {
 
 /// The doubles of the 2D world that a tick can change, in the compact state's order.
 struct World2::CompactFields {
-    static constexpr int kPose = 6, kVelocity = 3, kGravity = 2;
+    static constexpr int kPose = 6, kVelocity = 3, kGravity = 2, kCenter = 2;  // pose: position, rotation, centre
     template <class H, class Fn>
     static void pose(H& s, Fn f) {
         f(s.position.x);

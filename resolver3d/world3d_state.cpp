@@ -249,7 +249,7 @@ void World3::transferState(Io& io, Self& world) {
 
 /// The doubles of the 3D world that a tick can change, in the compact state's order.
 struct World3::CompactFields {
-    static constexpr int kPose = 10, kVelocity = 6, kGravity = 3;
+    static constexpr int kPose = 10, kVelocity = 6, kGravity = 3, kCenter = 3;  // pose: position, rotation, centre
     template <class V, class Fn>
     static void vec(V& v, Fn& f) {
         f(v.x());
