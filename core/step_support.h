@@ -121,9 +121,13 @@ constexpr int kActiveSetMinContacts = 64;
 /// 40-row's 300 steps 6.3 -> 5.7 ms/step. At 256 the 20-row pyramid's smaller islands cost twice as much on the path;
 /// the five-level card house (136 contacts) keeps Lemke, where it costs half as much (docs/solver-notes.md).
 constexpr int kPathFirstContacts = 384;
-/// Islands of at least this many contacts (Box2D v3's large pyramids, the 30- and 40-row testbed pyramids) keep their
-/// answers, not a prediction, for the next step, and end a near miss at the floor (kFloorExit).
-constexpr int kHugeIslandContacts = 1024;
+/// Islands of at least this many contacts (Box2D v3's 40- and 100-row large pyramids) keep their answers, not a
+/// prediction, for the next step, end a near miss at the floor (kFloorExit), and keep the tangential dead zone;
+/// smaller path islands take tangential velocities exactly. Against 1024 (instructions, scratch driver): the 30-row
+/// testbed pyramid's 300 steps -9.5 %, Box2D v3's base-24 large pyramid's 150 steps -36 %, the 40-row testbed
+/// pyramid's 200 steps -2 %; at 2048 the 40-row one's landing islands of 1024-2047 contacts took 7 % more and had 4
+/// near misses (docs/solver-notes.md).
+constexpr int kHugeIslandContacts = 4096;
 /// On those islands a solve whose warm face ends within this many tolerances of the certificate is a near miss
 /// there (ActiveSetOptions::floorExit): on the 100-row large pyramid no such solve was certified by the 20 more
 /// factorisations of the later phases (0 of 8 in 300 steps), each ~60 ms.
