@@ -241,8 +241,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
             // The cache carries this answer's prediction for the next step (ActiveSetOptions::incomingVelocity), which
             // needs the velocity each body brought into the step: its velocity before this step's gravity (dynamic
-            // bodies; the others keep moving as they do). Big islands carry the answer itself: on Box2D v3's 40-row
-            // large pyramid the prediction cost 12 % more instructions over 300 steps (docs/solver-notes.md).
+            // bodies; the others keep moving as they do). Islands of kHugeIslandContacts or more carry the answer
+            // itself: on Box2D v3's 40-row large pyramid the prediction cost 12 % more instructions over 300 steps
+            // (docs/solver-notes.md).
             std::vector<double>& incoming = worker.incoming;
             if constexpr (D::kDim == 2) {
                 if (!hugeIsland) {
