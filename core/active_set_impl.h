@@ -50,6 +50,7 @@
 #include <Eigen/SparseLU>
 #include <cstring>
 
+#include "active_set3_impl.h"
 #include "body_space_solve.h"
 #include "interior_point_impl.h"
 #include "symmetric_pattern_lu.h"
@@ -64,8 +65,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
     Resolution out;
     out.status = LcpStatus::pivot_limit;
     if constexpr (D::kDim != 2) {
-        out.message = "active-set path: 2D only";
-        return out;
+        return detail::resolveActiveSetBox(ioBodies, contacts, warm, options, settings);
     } else {
         out.message = validate(ioBodies, contacts);
         if (!out.message.empty()) {

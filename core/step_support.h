@@ -121,6 +121,11 @@ constexpr int kActiveSetMinContacts = 64;
 /// 40-row's 300 steps 6.3 -> 5.7 ms/step. At 256 the 20-row pyramid's smaller islands cost twice as much on the path;
 /// the five-level card house (136 contacts) keeps Lemke, where it costs half as much (docs/solver-notes.md).
 constexpr int kPathFirstContacts = 384;
+/// The same for 3D islands (pyramid of four directions): every island of kActiveSetMinContacts or more.
+constexpr int kPathFirstContacts3 = 64;
+/// Iterations of the active-set phase for 3D islands (ActiveSetOptions::maxIterations; 2D keeps its default 12).
+/// On the toppling 100-cube heap 30 certified more landing steps than 12 (docs/solver-notes.md).
+constexpr int kPathIterations3 = 30;
 /// Islands of at least this many contacts (Box2D v3's 40- and 100-row large pyramids) keep their answers, not a
 /// prediction, for the next step, end a near miss at the floor (kFloorExit), and keep the tangential dead zone;
 /// smaller path islands take tangential velocities exactly. Against 1024 (instructions, scratch driver): the 30-row

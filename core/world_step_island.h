@@ -213,9 +213,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         // A big island goes to the path even when Lemke answered it last step: while a pile lands, Lemke's warm
         // starts take thousands of pivots of O(n) each (minutes on the 40-row testbed pyramid), where the path with
         // its interior-point restart takes a few factorisations (kPathFirstContacts, step_support.h).
-        const bool bigIsland = nc >= kPathFirstContacts && !setup.declined;
+        // 3D islands take the path with the pyramid of four directions only (its friction set is a box in the path's
+        // coordinates, core/active_set3_impl.h).
+        const bool pathFits = D::kDim == 2 || D::frictionDirectionCount(k) == 4;
+        const int pathFirst = D::kDim == 2 ? kPathFirstContacts : kPathFirstContacts3;
+        const bool bigIsland = nc >= pathFirst && !setup.declined;
         const bool hugeIsland = nc >= kHugeIslandContacts && !setup.declined;
-        if (D::kDim == 2 && nc >= kActiveSetMinContacts && (activeSetFirst || bigIsland)) {
+        if (pathFits && nc >= kActiveSetMinContacts && (activeSetFirst || bigIsland)) {
             std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
             warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
             for (const PgsWarm<D>& w : setup.impulses) {
@@ -226,6 +230,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             fastOptions.patternCache = &worker.patterns;
             fastOptions.scratch = &worker.activeSet;
             fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
+            // 3D landings start farther from their answer (cubes sliding on edges): phase 1 gets more iterations.
+            if (D::kDim == 3) fastOptions.maxIterations = kPathIterations3;
             // A big island's cold first step takes the primal-dual iteration from zero impulses: from the
             // interior-point answer Box2D v3's 100-row large pyramid's first step took 1.4-2.0 s instead of 3.6-4.2,
             // but its next 149 steps 16 % more work (docs/solver-notes.md).

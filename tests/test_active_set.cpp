@@ -607,12 +607,14 @@ TEST_CASE("active-set path: declines what it cannot take, leaving the bodies unt
     bad[0].a = 99;
     r = resolveActiveSet(bodies, bad, std::vector<double>(bad.size() * 3, 0.0), options, ActiveSetOptions{});
     CHECK(r.status == LcpStatus::invalid_input);
-    // 3D declines.
+    // 3D declines pyramids of more than four directions (tests/test_active_set3.cpp).
     std::vector<Body3> bodies3(2);
     bodies3[1].invMass = 1.0;
     bodies3[1].invInertia = Mat3::Identity();
     const std::vector<Contact3> contacts3 = {makeContact<Dim3>(1, 0, Vec3(0, 0, 0), Vec3(0, 0, 1), 0.0, 0.5)};
-    r = resolveActiveSet(bodies3, contacts3, std::vector<double>(4, 0.0), options, ActiveSetOptions{});
+    ResolverOptions six = options;
+    six.frictionDirections = 6;
+    r = resolveActiveSet(bodies3, contacts3, std::vector<double>(4, 0.0), six, ActiveSetOptions{});
     CHECK(r.status == LcpStatus::pivot_limit);
 }
 

@@ -1,0 +1,894 @@
+// core/active_set3_impl.h — the 3D body of resolveActiveSet (core/contact_resolver.h), for the world's pyramid of four
+// directions (t1, t2, -t1, -t2). Included by core/active_set_impl.h only.
+//
+// Four directions make the friction set of a contact the diamond |f1| + |f2| <= mu p_n (f_i the impulse along t_i).
+// In the coordinates g1 = f1 + f2, g2 = f1 - f2 it is the box |g1| <= mu p_n, |g2| <= mu p_n, and the
+// Stewart–Trinkle conditions (the sliding velocity in the normal cone of the diamond at f) become, per component,
+// those of a 2D contact: g_r sticks (u_r = 0 along the row (t1 +- t2) / 2) or sits on a bound and slides against it.
+// So each contact has a normal unknown and two independent friction components, and the path is the 2D one's
+// (core/active_set_impl.h) with two components instead of one:
+//   - the bodies' degrees of freedom are normalised, v = sqrt(1/m) phi and omega = L theta with L L^T = I^-1
+//     (Dim3::couplingFactor), so that the mass matrix is the identity and J M^-1 J^T = J~ J~^T; a component whose
+//     inverse mass or inertia is zero has zero entries;
+//   - the interior-point restart has four constraints per contact, mu p_n -+ g1 >= 0 and mu p_n -+ g2 >= 0; their
+//     Newton block C^T (Y/S) C is an arrow matrix whose inverse has a closed form in e = s / y (no cancellation when
+//     the e span many orders);
+//   - the relaxation lets sliding contacts separate at mu times their sliding speed, and 3D landings slide more than
+//     the 2D piles the restart was made for: the restart repeats it with b_n shifted by that amount (de Saxce's fixed
+//     point, at most 6 rounds) and keeps the round closest to an answer;
+//   - the active-set iteration, its phases (0: warm face, 1: semismooth Newton with a proximal term from the warm
+//     start or from the restart's answer, 2: best face) and the certification against the Stewart–Trinkle LCP itself
+//     are the 2D path's, except that phase 1 moves its centre when the states repeat those of one or two iterations
+//     before (3D faces alternate between two states of degenerate contacts, which would hold the proximal term).
+// Every loop runs in index order and the orderings are pure functions of the patterns: the same bits everywhere.
+#pragma once
+
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "body_space_solve.h"
+#include "symmetric_pattern_lu.h"
+
+namespace unison {
+namespace detail {
+
+// One contact's three rows in the normalised degrees of freedom: 0 the normal, 1 (t1 + t2) / 2, 2 (t1 - t2) / 2.
+// Per side its body's first degree of freedom (-1: immovable) and 6 components.
+struct BoxContactRows {
+    int d[2];
+    double j[3][2][6];
+};
+
+// J~^T h for one contact (h per row) added to `moment`.
+inline void addBoxRows(const BoxContactRows& q, const double h[3], double* moment) {
+    for (int r = 0; r < 3; ++r) {
+        const double v = h[r];
+        if (v == 0.0) continue;
+        for (int s = 0; s < 2; ++s) {
+            if (q.d[s] < 0) continue;
+            double* m = moment + q.d[s];
+            for (int a = 0; a < 6; ++a) m[a] += v * q.j[r][s][a];
+        }
+    }
+}
+
+inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
+    double sum = 0.0;
+    for (int s = 0; s < 2; ++s) {
+        if (q.d[s] < 0) continue;
+        const double* x = v + q.d[s];
+        for (int a = 0; a < 6; ++a) sum += q.j[r][s][a] * x[a];
+    }
+    return sum;
+}
+
+// The interior-point answer of the convex relaxation min 1/2 p^T A p + b^T p over |g_r| <= mu p_n (p_n >= 0 where a
+// contact has no friction), Mehrotra's predictor-corrector as core/interior_point_impl.h in 2D; p = (p_n, g1, g2) per
+// contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs.
+template <class Velocities, class Residual>
+bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector<double>& mu,
+                      const std::vector<std::uint8_t>& frictional, const std::vector<double>& diag, int ndof,
+                      double bMax, const Velocities& velocities, const Residual& lcpResidual, double tolAbs,
+                      std::uint64_t rowWork, SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
+                      std::vector<double>& xOut) {
+    const int nc = int(rows.size());
+    int m = 0;
+    for (int c = 0; c < nc; ++c) m += frictional[std::size_t(c)] ? 4 : 1;
+    const double v0 = std::max(bMax, 1e-6);
+    const std::size_t n3 = std::size_t(3 * nc), n4 = std::size_t(4 * nc);
+    std::vector<double> p(n3, 0.0), uu(n3), rd(n3), g(n3), dp(n3), hinv(std::size_t(6 * nc), 0.0);
+    std::vector<double> s(n4, 0.0), y(n4, 0.0), rp(n4, 0.0), rc(n4, 0.0), ds(n4, 0.0), dy(n4, 0.0);
+    std::vector<double> dsAff(n4, 0.0), dyAff(n4, 0.0);
+    auto count = [&](int c) { return frictional[std::size_t(c)] ? 4 : 1; };
+    for (int c = 0; c < nc; ++c) {
+        for (int i = 0; i < count(c); ++i) {
+            s[std::size_t(4 * c + i)] = v0 / diag[std::size_t(3 * c)];
+            y[std::size_t(4 * c + i)] = v0;
+        }
+    }
+    // Row i of C q for contact c: p_n without friction; mu p_n - g1, mu p_n + g1, mu p_n - g2, mu p_n + g2.
+    auto cp = [&](const std::vector<double>& q, int c, int i) {
+        const double pn = q[std::size_t(3 * c)];
+        if (!frictional[std::size_t(c)]) return pn;
+        const double gr = q[std::size_t(3 * c + 1 + i / 2)];
+        return mu[std::size_t(c)] * pn + ((i & 1) ? gr : -gr);
+    };
+    // C^T w for contact c (w per constraint).
+    auto ctw = [&](int c, const double* w, double out[3]) {
+        if (!frictional[std::size_t(c)]) {
+            out[0] = w[0];
+            out[1] = out[2] = 0.0;
+            return;
+        }
+        out[0] = mu[std::size_t(c)] * (w[0] + w[1] + w[2] + w[3]);
+        out[1] = w[1] - w[0];
+        out[2] = w[3] - w[2];
+    };
+    auto applyHinv = [&](int c, const double in[3], double out[3]) {
+        const double* H = &hinv[std::size_t(6 * c)];  // 00 01 02 11 12 22
+        out[0] = H[0] * in[0] + H[1] * in[1] + H[2] * in[2];
+        out[1] = H[1] * in[0] + H[3] * in[1] + H[4] * in[2];
+        out[2] = H[2] * in[0] + H[4] * in[1] + H[5] * in[2];
+    };
+    // The body-space matrix I + J~^T H^-1 J~: a fixed pattern (each contact couples its bodies' degrees of freedom),
+    // assembled once, its values refilled in the same order every iteration.
+    std::vector<Eigen::Triplet<double>> kt;
+    std::vector<int> kpos;
+    Eigen::SparseMatrix<double> Kb;
+    ColumnAssembly assembly;
+    SymmetricPatternLu factor;
+    bool analysed = false;
+    std::vector<double> moment(std::size_t(std::max(ndof, 1)));
+    Eigen::VectorXd rv(ndof), dv(ndof);
+    auto direction = [&]() -> bool {
+        std::fill(moment.begin(), moment.end(), 0.0);
+        for (int c = 0; c < nc; ++c) {
+            double w[4] = {0.0, 0.0, 0.0, 0.0}, cw[3], hg[3];
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                w[i] = (rc[jj] + y[jj] * rp[jj]) / s[jj];
+            }
+            ctw(c, w, cw);
+            for (int r = 0; r < 3; ++r) g[std::size_t(3 * c + r)] = -rd[std::size_t(3 * c + r)] - cw[r];
+            applyHinv(c, &g[std::size_t(3 * c)], hg);
+            addBoxRows(rows[std::size_t(c)], hg, moment.data());
+        }
+        for (int i = 0; i < ndof; ++i) rv[i] = moment[std::size_t(i)];
+        if (ndof > 0) dv = factor.solve(rv);
+        work += 4 * std::uint64_t(factor.factorNonZeros()) + rowWork;
+        for (int c = 0; c < nc; ++c) {
+            double rest[3];
+            for (int r = 0; r < 3; ++r)
+                rest[r] = g[std::size_t(3 * c + r)] - (ndof > 0 ? boxRowDot(rows[std::size_t(c)], r, dv.data()) : 0.0);
+            applyHinv(c, rest, &dp[std::size_t(3 * c)]);
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                ds[jj] = cp(dp, c, i) + rp[jj];
+                dy[jj] = -(rc[jj] + y[jj] * ds[jj]) / s[jj];
+            }
+        }
+        for (double v : dp)
+            if (!std::isfinite(v)) return false;
+        return true;
+    };
+    auto maxStep = [&](const std::vector<double>& v, const std::vector<double>& dvv) {
+        double a = 1.0;
+        for (int c = 0; c < nc; ++c) {
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                if (dvv[jj] < 0.0) a = std::min(a, -v[jj] / dvv[jj]);
+            }
+        }
+        return a;
+    };
+    // Bit i: constraint i is active (its slack small against its multiplier).
+    auto activeOf = [&](int c) -> std::uint8_t {
+        const double gn = diag[std::size_t(3 * c)];
+        std::uint8_t bits = 0;
+        for (int i = 0; i < count(c); ++i) {
+            const std::size_t jj = std::size_t(4 * c + i);
+            if (s[jj] * gn <= y[jj]) bits = std::uint8_t(bits | (1u << i));
+        }
+        return bits;
+    };
+    constexpr int kInteriorIterations = 40;
+    constexpr double kStableGap = 1e-8;
+    std::vector<std::uint8_t> cls(static_cast<std::size_t>(nc), 0), prevCls(static_cast<std::size_t>(nc), 255);
+    const bool frictionless = m == nc;
+    double mu0 = 0.0, lastMub = std::numeric_limits<double>::infinity();
+    for (int it = 0; it < kInteriorIterations; ++it) {
+        if (maxWork > 0 && work >= maxWork) return false;
+        velocities(p, uu);
+        work += rowWork;
+        double gap = 0.0, rdMax = 0.0, rpMax = 0.0;
+        for (int c = 0; c < nc; ++c) {
+            const double* yc = &y[std::size_t(4 * c)];
+            double cy[3];
+            ctw(c, yc, cy);
+            for (int r = 0; r < 3; ++r) {
+                const std::size_t jj = std::size_t(3 * c + r);
+                rd[jj] = frictional[std::size_t(c)] || r == 0 ? uu[jj] - cy[r] : 0.0;  // no friction: g stays 0
+                rdMax = std::max(rdMax, std::fabs(rd[jj]));
+            }
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                rp[jj] = cp(p, c, i) - s[jj];
+                rpMax = std::max(rpMax, std::fabs(rp[jj]) * diag[std::size_t(3 * c)]);
+                gap += s[jj] * y[jj];
+            }
+        }
+        const double mub = gap / double(m);
+        if (it == 0) mu0 = mub;
+        if (mub <= kStableGap * mu0) {
+            const double raw = lcpResidual(p, uu);
+            work += rowWork;
+            if (raw <= tolAbs) {
+                xOut = p;
+                return true;
+            }
+            const bool onTheWay = frictionless && mub <= 0.5 * lastMub;  // as in 2D (interior_point_impl.h)
+            lastMub = mub;
+            if (!onTheWay) {
+                for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
+                if (cls == prevCls) break;
+                prevCls = cls;
+                if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) break;
+            }
+        }
+        // H^-1 per contact from e = s / y (capped: a contact inside its box becomes a stiff constraint). With
+        // ea = e0 + e1, eb = e2 + e3: the Schur complement of the p_n entry is S = mu^2 (4 / ea + 4 / eb), the
+        // coupling a_r = mu (e_(2r-2) - e_(2r-1)) / e_r's pair sum, and H^-1 = [1/S, -a^T/S; -a/S, E + a a^T / S]
+        // with E = diag(e0 e1 / ea, e2 e3 / eb).
+        for (int c = 0; c < nc; ++c) {
+            const double gn = diag[std::size_t(3 * c)];
+            double e[4] = {0.0, 0.0, 0.0, 0.0};
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                e[i] = std::min(s[jj] / y[jj], 1e12 / gn);
+            }
+            double* H = &hinv[std::size_t(6 * c)];
+            if (frictional[std::size_t(c)]) {
+                const double mc = mu[std::size_t(c)];
+                const double ea = e[0] + e[1], eb = e[2] + e[3];
+                const double S = mc * mc * (4.0 / ea + 4.0 / eb);
+                const double a1 = mc * (e[0] - e[1]) / ea, a2 = mc * (e[2] - e[3]) / eb;
+                H[0] = 1.0 / S;
+                H[1] = -a1 / S;
+                H[2] = -a2 / S;
+                H[3] = e[0] * e[1] / ea + a1 * a1 / S;
+                H[4] = a1 * a2 / S;
+                H[5] = e[2] * e[3] / eb + a2 * a2 / S;
+            } else {
+                H[0] = e[0];
+                H[1] = H[2] = H[3] = H[4] = H[5] = 0.0;
+            }
+        }
+        if (!analysed) kt.clear();
+        double* values = analysed ? Kb.valuePtr() : nullptr;
+        if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
+        std::size_t entry = 0;
+        auto put = [&](int r, int col, double v) {
+            if (!analysed)
+                kt.emplace_back(r, col, v);
+            else
+                values[kpos[entry]] += v;
+            ++entry;
+        };
+        for (int i = 0; i < ndof; ++i) put(i, i, 1.0);
+        for (int c = 0; c < nc; ++c) {
+            const BoxContactRows& q = rows[std::size_t(c)];
+            const double* H = &hinv[std::size_t(6 * c)];
+            const double Hm[3][3] = {{H[0], H[1], H[2]}, {H[1], H[3], H[4]}, {H[2], H[4], H[5]}};
+            for (int sb = 0; sb < 2; ++sb) {
+                if (q.d[sb] < 0) continue;
+                // H^-1 J~ on side sb: per row r and component.
+                double hj[3][6];
+                for (int r = 0; r < 3; ++r)
+                    for (int b = 0; b < 6; ++b)
+                        hj[r][b] = Hm[r][0] * q.j[0][sb][b] + Hm[r][1] * q.j[1][sb][b] + Hm[r][2] * q.j[2][sb][b];
+                for (int sa = 0; sa < 2; ++sa) {
+                    if (q.d[sa] < 0) continue;
+                    for (int b = 0; b < 6; ++b)
+                        for (int a = 0; a < 6; ++a)
+                            put(q.d[sa] + a, q.d[sb] + b,
+                                q.j[0][sa][a] * hj[0][b] + q.j[1][sa][a] * hj[1][b] + q.j[2][sa][a] * hj[2][b]);
+                }
+            }
+        }
+        if (ndof > 0) {
+            if (!analysed) {
+                analysed = true;
+                assembleColumns(ndof, kt, Kb, assembly);
+                factor.analyzePattern(Kb, cache);
+                kpos.resize(kt.size());
+                for (std::size_t t = 0; t < kt.size(); ++t) {
+                    const int col = kt[t].col();
+                    const int* rws = Kb.innerIndexPtr();
+                    const int* at = std::lower_bound(rws + Kb.outerIndexPtr()[col], rws + Kb.outerIndexPtr()[col + 1],
+                                                     kt[t].row());
+                    kpos[t] = int(at - rws);
+                }
+            }
+            if (!factor.factorize(Kb, true)) return false;
+            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(factor.factorNonZeros()) + 2 * std::uint64_t(entry);
+        }
+        // Predictor (affine scaling).
+        for (std::size_t jj = 0; jj < rc.size(); ++jj) rc[jj] = s[jj] * y[jj];
+        if (!direction()) return false;
+        const double aAff = std::min(maxStep(s, ds), maxStep(y, dy));
+        double gapAff = 0.0;
+        for (std::size_t jj = 0; jj < s.size(); ++jj) gapAff += (s[jj] + aAff * ds[jj]) * (y[jj] + aAff * dy[jj]);
+        const double ratio = gapAff / double(m) / mub;
+        const double sigma = ratio * ratio * ratio;
+        dsAff = ds;
+        dyAff = dy;
+        // Corrector.
+        for (int c = 0; c < nc; ++c) {
+            for (int i = 0; i < count(c); ++i) {
+                const std::size_t jj = std::size_t(4 * c + i);
+                rc[jj] = s[jj] * y[jj] + dsAff[jj] * dyAff[jj] - sigma * mub;
+            }
+        }
+        if (!direction()) return false;
+        const double alpha = std::min(1.0, 0.99 * std::min(maxStep(s, ds), maxStep(y, dy)));
+        for (std::size_t jj = 0; jj < p.size(); ++jj) p[jj] += alpha * dp[jj];
+        for (std::size_t jj = 0; jj < s.size(); ++jj) {
+            s[jj] += alpha * ds[jj];
+            y[jj] += alpha * dy[jj];
+        }
+    }
+    // The answer with the active constraints taken as equalities.
+    for (int c = 0; c < nc; ++c) {
+        double pn = std::max(p[std::size_t(3 * c)], 0.0);
+        double gr[2] = {p[std::size_t(3 * c + 1)], p[std::size_t(3 * c + 2)]};
+        const std::uint8_t act = activeOf(c);
+        if (!frictional[std::size_t(c)]) {
+            if (act & 1) pn = 0.0;
+            gr[0] = gr[1] = 0.0;
+        } else if ((act & 3) == 3 || (act & 12) == 12) {
+            pn = gr[0] = gr[1] = 0.0;
+        } else {
+            const double bound = mu[std::size_t(c)] * pn;
+            for (int r = 0; r < 2; ++r) {
+                if (act & (1u << (2 * r))) gr[r] = bound;
+                if (act & (2u << (2 * r))) gr[r] = -bound;
+            }
+        }
+        xOut[std::size_t(3 * c)] = pn;
+        xOut[std::size_t(3 * c + 1)] = gr[0];
+        xOut[std::size_t(3 * c + 2)] = gr[1];
+    }
+    return true;
+}
+
+template <class D>
+Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
+                               const std::vector<double>& warm, const ResolverOptions& options,
+                               const ActiveSetOptions& settings) {
+    Resolution out;
+    out.status = LcpStatus::pivot_limit;
+    out.message = validate(ioBodies, contacts);
+    if (!out.message.empty()) {
+        out.status = LcpStatus::invalid_input;
+        return out;
+    }
+    const int nc = int(contacts.size());
+    const int nb = int(ioBodies.size());
+    if (D::frictionDirectionCount(options.frictionDirections) != 4) {
+        out.message = "active-set path: 3D needs the pyramid of four directions";
+        return out;
+    }
+    if (nc == 0 || warm.size() != std::size_t(nc) * std::size_t(1 + D::kDim)) {
+        out.message = "active-set path: no contacts or warm impulses of the wrong size";
+        return out;
+    }
+    const FrictionSystem<D> sys = buildFrictionSystem(ioBodies, contacts, options);
+    const FrictionLayout& layout = sys.layout;
+    const int k = layout.directions;  // 4: t1, t2, -t1, -t2
+    std::vector<int> dof(std::size_t(nb), -1);
+    int ndof = 0;
+    for (int b = 0; b < nb; ++b) {
+        if (!isImmovable(ioBodies[std::size_t(b)])) {
+            dof[std::size_t(b)] = ndof;
+            ndof += 6;
+        }
+    }
+    // Per body the normalisation: sqrt(1/m) and L with L L^T = I^-1.
+    std::vector<double> rootInvMass(std::size_t(nb), 0.0);
+    std::vector<typename D::InvInertia> factorL(static_cast<std::size_t>(nb));
+    for (int b = 0; b < nb; ++b) {
+        if (dof[std::size_t(b)] < 0) continue;
+        rootInvMass[std::size_t(b)] = std::sqrt(ioBodies[std::size_t(b)].invMass);
+        factorL[std::size_t(b)] = D::couplingFactor(ioBodies[std::size_t(b)].invInertia);
+    }
+    // A row's side in the normalised degrees of freedom.
+    auto normalised = [&](const JacobianRow<D>& row, int s, double outRow[6]) {
+        const int b = row.body[s];
+        const double rm = rootInvMass[std::size_t(b)];
+        typename D::Ang left, right;
+        D::couplingHalves(factorL[std::size_t(b)], row.ang[s], left, right);
+        for (int a = 0; a < 3; ++a) {
+            outRow[a] = rm * row.lin[s][a];
+            outRow[3 + a] = left[a];
+        }
+    };
+    std::vector<BoxContactRows> rows(static_cast<std::size_t>(nc));
+    std::vector<double> bRow(std::size_t(3 * nc)), diag(std::size_t(3 * nc), 0.0), mu(static_cast<std::size_t>(nc));
+    std::vector<std::uint8_t> frictional(static_cast<std::size_t>(nc), 0);
+    double maxAbs = 1.0, bMax = 0.0;
+    auto sq6 = [](const double* v) {
+        double s = 0.0;
+        for (int a = 0; a < 6; ++a) s += v[a] * v[a];
+        return s;
+    };
+    for (int c = 0; c < nc; ++c) {
+        BoxContactRows& q = rows[std::size_t(c)];
+        const JacobianRow<D>& rn = sys.rows[std::size_t(c)];
+        const JacobianRow<D>& r1 = sys.rows[std::size_t(layout.tangentOffset() + c * k)];
+        const JacobianRow<D>& r2 = sys.rows[std::size_t(layout.tangentOffset() + c * k + 1)];
+        double gRow[3] = {0.0, 0.0, 0.0};  // diagonals of the normal, t1 and t2 rows (the LCP's scale)
+        for (int s = 0; s < 2; ++s) {
+            q.d[s] = dof[std::size_t(rn.body[s])];
+            double jn[6], j1[6], j2[6];
+            if (q.d[s] < 0) {
+                std::fill(jn, jn + 6, 0.0);
+                std::fill(j1, j1 + 6, 0.0);
+                std::fill(j2, j2 + 6, 0.0);
+            } else {
+                normalised(rn, s, jn);
+                normalised(r1, s, j1);
+                normalised(r2, s, j2);
+            }
+            gRow[0] += sq6(jn);
+            gRow[1] += sq6(j1);
+            gRow[2] += sq6(j2);
+            for (int a = 0; a < 6; ++a) {
+                q.j[0][s][a] = jn[a];
+                q.j[1][s][a] = 0.5 * (j1[a] + j2[a]);
+                q.j[2][s][a] = 0.5 * (j1[a] - j2[a]);
+            }
+        }
+        for (int r = 0; r < 3; ++r) diag[std::size_t(3 * c + r)] = sq6(q.j[r][0]) + sq6(q.j[r][1]);
+        const double b1 = sys.b[std::size_t(layout.tangentOffset() + c * k)];
+        const double b2 = sys.b[std::size_t(layout.tangentOffset() + c * k + 1)];
+        bRow[std::size_t(3 * c)] = sys.b[std::size_t(c)];
+        bRow[std::size_t(3 * c + 1)] = 0.5 * (b1 + b2);
+        bRow[std::size_t(3 * c + 2)] = 0.5 * (b1 - b2);
+        mu[std::size_t(c)] = sys.mu[std::size_t(c)];
+        frictional[std::size_t(c)] =
+            mu[std::size_t(c)] > 0.0 && diag[std::size_t(3 * c + 1)] > 0.0 && diag[std::size_t(3 * c + 2)] > 0.0;
+        maxAbs = std::max({maxAbs, gRow[0], gRow[1], gRow[2], mu[std::size_t(c)]});
+        bMax = std::max({bMax, std::fabs(sys.b[std::size_t(c)]), std::fabs(b1), std::fabs(b2)});
+        if (!(diag[std::size_t(3 * c)] > 0.0)) {
+            out.message = "active-set path: a contact between immovable bodies";
+            return out;
+        }
+    }
+    const double scale = std::max(maxAbs, bMax);
+    const double tolAbs = options.lcp.residualTolerance * scale;
+    std::uint64_t work = 0;
+    const std::uint64_t rowWork = std::uint64_t(60 * nc + 12 * nb);
+
+    // u = b + J~ J~^T x per contact (p_n, g1, g2).
+    std::vector<double> mom(std::size_t(std::max(ndof, 1)));
+    auto velocities = [&](const std::vector<double>& x, std::vector<double>& u) {
+        std::fill(mom.begin(), mom.end(), 0.0);
+        for (int c = 0; c < nc; ++c) addBoxRows(rows[std::size_t(c)], &x[std::size_t(3 * c)], mom.data());
+        for (int c = 0; c < nc; ++c)
+            for (int r = 0; r < 3; ++r)
+                u[std::size_t(3 * c + r)] = bRow[std::size_t(3 * c + r)] + boxRowDot(rows[std::size_t(c)], r, mom.data());
+    };
+    // The Stewart–Trinkle LCP's complementarity residual: f1 = (g1 + g2) / 2, f2 = (g1 - g2) / 2 on the directions
+    // t1, t2, -t1, -t2 (beta = their positive and negative parts), u1 = u_g1 + u_g2 and u2 = u_g1 - u_g2 along t1 and
+    // t2, lambda = max(|u1|, |u2|) or 0, whichever is closer.
+    auto lcpResidual = [&](const std::vector<double>& x, const std::vector<double>& u) {
+        double res = 0.0;
+        for (int c = 0; c < nc; ++c) {
+            const double pn = x[std::size_t(3 * c)], g1 = x[std::size_t(3 * c + 1)], g2 = x[std::size_t(3 * c + 2)];
+            const double f1 = 0.5 * (g1 + g2), f2 = 0.5 * (g1 - g2);
+            const double u1 = u[std::size_t(3 * c + 1)] + u[std::size_t(3 * c + 2)];
+            const double u2 = u[std::size_t(3 * c + 1)] - u[std::size_t(3 * c + 2)];
+            const double beta[4] = {std::max(f1, 0.0), std::max(f2, 0.0), std::max(-f1, 0.0), std::max(-f2, 0.0)};
+            const double along[4] = {u1, u2, -u1, -u2};
+            const double slack = mu[std::size_t(c)] * pn - beta[0] - beta[1] - beta[2] - beta[3];
+            auto frictionTerms = [&](double lam) {
+                double r = std::fabs(std::min(lam, slack));
+                for (int m = 0; m < 4; ++m) r = std::max(r, std::fabs(std::min(beta[m], along[m] + lam)));
+                return r;
+            };
+            res = std::max(res, std::fabs(std::min(pn, u[std::size_t(3 * c)])));
+            res = std::max(res, std::min(frictionTerms(std::max(std::fabs(u1), std::fabs(u2))), frictionTerms(0.0)));
+        }
+        return res;
+    };
+    auto merit = [&](const std::vector<double>& x, const std::vector<double>& u) {
+        double total = 0.0;
+        for (int c = 0; c < nc; ++c) {
+            const double pn = x[std::size_t(3 * c)];
+            const double fn = std::min(pn * diag[std::size_t(3 * c)], u[std::size_t(3 * c)]);
+            total += fn * fn;
+            const double bound = mu[std::size_t(c)] * pn;
+            for (int r = 1; r < 3; ++r) {
+                const double gt = diag[std::size_t(3 * c + r)];
+                if (!(gt > 0.0)) continue;
+                const double pt = x[std::size_t(3 * c + r)];
+                const double yt = pt - u[std::size_t(3 * c + r)] / gt;
+                const double ft = (pt - std::min(bound, std::max(-bound, yt))) * gt;
+                total += ft * ft;
+            }
+        }
+        return total;
+    };
+    auto project = [&](std::vector<double>& x) {
+        for (int c = 0; c < nc; ++c) {
+            double& pn = x[std::size_t(3 * c)];
+            pn = std::max(pn, 0.0);
+            const double bound = frictional[std::size_t(c)] ? mu[std::size_t(c)] * pn : 0.0;
+            for (int r = 1; r < 3; ++r) {
+                double& pt = x[std::size_t(3 * c + r)];
+                pt = std::min(bound, std::max(-bound, pt));
+            }
+        }
+    };
+
+    std::vector<double> x(std::size_t(3 * nc)), u(std::size_t(3 * nc));
+    for (int c = 0; c < nc; ++c) {
+        const double* w = &warm[std::size_t(c) * std::size_t(1 + D::kDim)];
+        const typename D::Vec t = D::fromComponents(w + 1);
+        const double f1 = D::dot(t, sys.dirs[std::size_t(c * k)]), f2 = D::dot(t, sys.dirs[std::size_t(c * k + 1)]);
+        x[std::size_t(3 * c)] = w[0];
+        x[std::size_t(3 * c + 1)] = f1 + f2;
+        x[std::size_t(3 * c + 2)] = f1 - f2;
+    }
+    // The interior-point restart: the relaxation's answer, then rounds of de Saxce's fixed point. The relaxation lets
+    // a sliding contact separate at mu lambda (lambda = |u_g1| + |u_g2| = max(|u1|, |u2|), its sliding speed); each
+    // round solves it again with b_n raised by mu lambda of the last round's answer, so that where the shift stands
+    // still the relaxation's answer has u_n = 0 on every loaded contact, the LCP's. Each round is a convex problem.
+    constexpr int kShiftRounds = 6;  // the toppling 100-cube heap: 6 rounds 5.6 ms/step, 12 rounds 7.4 (solver-notes.md)
+    std::vector<double> shift(static_cast<std::size_t>(nc), 0.0), unshifted(x.size());
+    auto shiftedVelocities = [&](const std::vector<double>& xx, std::vector<double>& uu) {
+        velocities(xx, uu);
+        for (int c = 0; c < nc; ++c) uu[std::size_t(3 * c)] += shift[std::size_t(c)];
+    };
+    auto shiftedResidual = [&](const std::vector<double>& xx, const std::vector<double>& uu) {
+        unshifted = uu;
+        for (int c = 0; c < nc; ++c) unshifted[std::size_t(3 * c)] -= shift[std::size_t(c)];
+        return lcpResidual(xx, unshifted);
+    };
+    auto interiorPoint = [&](std::vector<double>& xOut) {
+        std::fill(shift.begin(), shift.end(), 0.0);
+        std::vector<double> xr(x.size()), ur(x.size());
+        double bestRound = std::numeric_limits<double>::infinity();
+        bool any = false;
+        for (int round = 0; round < kShiftRounds; ++round) {
+            if (!boxInteriorPoint(rows, mu, frictional, diag, ndof, bMax, shiftedVelocities, shiftedResidual, tolAbs,
+                                  rowWork, settings.patternCache, settings.maxWork, work, xr))
+                break;
+            project(xr);
+            velocities(xr, ur);
+            work += rowWork;
+            const double r = lcpResidual(xr, ur);
+            if (r < bestRound) {
+                bestRound = r;
+                xOut = xr;
+                any = true;
+            }
+            if (r <= tolAbs) break;
+            double change = 0.0;
+            for (int c = 0; c < nc; ++c) {
+                if (!frictional[std::size_t(c)]) continue;
+                const double next =
+                    mu[std::size_t(c)] * (std::fabs(ur[std::size_t(3 * c + 1)]) + std::fabs(ur[std::size_t(3 * c + 2)]));
+                change = std::max(change, std::fabs(next - shift[std::size_t(c)]));
+                shift[std::size_t(c)] = next;
+            }
+            if (change <= tolAbs) break;
+        }
+        return any;
+    };
+    project(x);
+    velocities(x, u);
+    work += rowWork;
+    double currentMerit = merit(x, u);
+
+    // Per contact: separated, or touching with each friction component sticking (0) or on its bound (+1: kPlus,
+    // -1: kMinus).
+    enum : std::uint8_t { kStick = 0, kPlus = 1, kMinus = 2 };
+    std::vector<std::uint8_t> touching(static_cast<std::size_t>(nc), 0), comp(std::size_t(2 * nc), 0);
+    std::vector<std::uint8_t> lastState, lastState2;
+    std::vector<int> freeIndex(std::size_t(3 * nc)), freeUnknown;
+    std::vector<Eigen::Triplet<double>> triplets, slipTriplets;
+    Eigen::SparseMatrix<double> K;
+    ColumnAssembly assembly;
+    SymmetricPatternLu factor;
+    std::vector<int> analysedFree;
+    GmresWorkspace gmres;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+    std::vector<double> dx(x.size()), xt(x.size()), ut(x.size()), xp(x.size()), up(x.size()), rhs;
+    constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
+    constexpr int kPolish = 8, kHalvings = 3;
+    constexpr double kInteriorGate = 10.0, kInteriorFirstGate = 1000.0;
+    double epsRel = kEps0;
+    std::vector<double> center = x, ue(x.size());
+    std::vector<double> bestX = x, bestU = u, warmX = x, warmU = u;
+    bool interiorTried = false, solved = false;
+    int iterations = 0;
+    double bestResidual = lcpResidual(x, u);
+    const bool cold = std::all_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
+    const bool coldInterior = cold && settings.interiorPoint && settings.coldInteriorPoint;
+    int phase = cold && !coldInterior ? 1 : 0;
+    bool polish = !cold || coldInterior;
+    int limit = coldInterior ? 0 : cold ? settings.maxIterations : kPolish;
+    if (!cold && settings.interiorPoint && bestResidual > kInteriorFirstGate * tolAbs) limit = 0;
+    epsRel = cold && !coldInterior ? kEps0 : kPolishEps;
+    double knownResidual = bestResidual;
+    std::vector<std::uint8_t> state(std::size_t(3 * nc));
+    for (;;) {
+        if ((knownResidual >= 0.0 ? knownResidual : lcpResidual(x, u)) <= tolAbs) {
+            solved = true;
+            break;
+        }
+        if (settings.maxWork > 0 && work >= settings.maxWork) break;
+        if (iterations >= limit) {
+            if (phase == 2) break;
+            if (phase == 0 && settings.interiorPoint && !interiorTried && bestResidual > kInteriorGate * tolAbs) {
+                interiorTried = true;
+                std::vector<double> xi(x.size(), 0.0);
+                if (interiorPoint(xi)) {
+                    out.interiorPoint = true;
+                    x.swap(xi);
+                    project(x);
+                    velocities(x, u);
+                    work += rowWork;
+                    warmX = x;
+                    warmU = u;
+                    center = x;
+                    currentMerit = merit(x, u);
+                    limit = iterations;  // phase 1 from this answer: its face rarely holds (sliding contacts)
+                    const double r0 = lcpResidual(x, u);
+                    knownResidual = r0;
+                    if (r0 < bestResidual) {
+                        bestResidual = r0;
+                        bestX = x;
+                        bestU = u;
+                    }
+                    continue;
+                }
+            }
+            if (phase == 0) {
+                phase = 1;
+                polish = false;
+                limit = iterations + settings.maxIterations;
+                x = warmX;
+                u = warmU;
+                center = x;
+                epsRel = kEps0;
+                lastState.clear();
+                lastState2.clear();
+            } else {
+                phase = 2;
+                polish = true;
+                limit = iterations + kPolish;
+                x = bestX;
+                u = bestU;
+                epsRel = kPolishEps;
+                currentMerit = merit(x, u);
+            }
+        }
+        if (polish) center = x;
+        ++iterations;
+        for (std::size_t i = 0; i < x.size(); ++i) ue[i] = u[i] + epsRel * diag[i] * (x[i] - center[i]);
+        // States and free unknowns.
+        freeUnknown.clear();
+        for (int c = 0; c < nc; ++c) {
+            const double pn = x[std::size_t(3 * c)];
+            const double gn = diag[std::size_t(3 * c)];
+            const double yn = polish ? (pn > 0.0 || u[std::size_t(3 * c)] < -tolAbs ? 1.0 : -1.0)
+                                     : pn - ue[std::size_t(3 * c)] / gn;
+            for (int r = 0; r < 3; ++r) freeIndex[std::size_t(3 * c + r)] = -1;
+            touching[std::size_t(c)] = yn >= -tolAbs / gn ? 1 : 0;
+            if (!touching[std::size_t(c)]) continue;
+            freeIndex[std::size_t(3 * c)] = int(freeUnknown.size());
+            freeUnknown.push_back(3 * c);
+            const double bound = mu[std::size_t(c)] * (polish ? pn : yn);
+            for (int r = 1; r < 3; ++r) {
+                const double gt = diag[std::size_t(3 * c + r)];
+                const double pt = x[std::size_t(3 * c + r)];
+                const double yt = polish ? pt : pt - ue[std::size_t(3 * c + r)] / gt;
+                const bool sticks = frictional[std::size_t(c)] &&
+                                    (polish ? std::fabs(pt) < mu[std::size_t(c)] * pn : std::fabs(yt) <= bound + tolAbs / gt);
+                std::uint8_t& st = comp[std::size_t(2 * c + r - 1)];
+                if (sticks) {
+                    st = kStick;
+                    freeIndex[std::size_t(3 * c + r)] = int(freeUnknown.size());
+                    freeUnknown.push_back(3 * c + r);
+                } else {
+                    st = yt >= 0.0 ? kPlus : kMinus;
+                }
+            }
+        }
+        // The bound a slipping component keeps: +-mu p_n (0 without friction).
+        auto slipSign = [&](int c, int r) -> double {
+            if (!frictional[std::size_t(c)]) return 0.0;
+            return comp[std::size_t(2 * c + r - 1)] == kPlus ? mu[std::size_t(c)] : -mu[std::size_t(c)];
+        };
+        const int nf = int(freeUnknown.size());
+        const int n = ndof + nf;
+        rhs.assign(std::size_t(n), 0.0);
+        // Known parts: separated contacts let go, slipping components move onto their bound.
+        for (int c = 0; c < nc; ++c) {
+            double h[3] = {0.0, 0.0, 0.0};
+            const double pn = x[std::size_t(3 * c)];
+            if (!touching[std::size_t(c)]) {
+                for (int r = 0; r < 3; ++r) h[r] = -x[std::size_t(3 * c + r)];
+            } else {
+                for (int r = 1; r < 3; ++r)
+                    if (freeIndex[std::size_t(3 * c + r)] < 0) h[r] = slipSign(c, r) * pn - x[std::size_t(3 * c + r)];
+            }
+            addBoxRows(rows[std::size_t(c)], h, rhs.data());
+        }
+        for (int f = 0; f < nf; ++f) rhs[std::size_t(ndof + f)] = -ue[std::size_t(freeUnknown[std::size_t(f)])];
+        // K [v; q] = [I, J~_col^T; J~, -eps G] [v; q] = [known momentum; -u'] with q = -dp; a slipping component's
+        // bound adds +-mu times its row to the normal column (non-symmetric values, symmetric pattern).
+        triplets.clear();
+        slipTriplets.clear();
+        for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
+        for (int f = 0; f < nf; ++f) {
+            const int unknown = freeUnknown[std::size_t(f)];
+            const int c = unknown / 3, r = unknown % 3;
+            const BoxContactRows& q = rows[std::size_t(c)];
+            const int col = ndof + f;
+            for (int s = 0; s < 2; ++s) {
+                if (q.d[s] < 0) continue;
+                for (int a = 0; a < 6; ++a) {
+                    const double v = q.j[r][s][a];
+                    triplets.emplace_back(col, q.d[s] + a, v);
+                    triplets.emplace_back(q.d[s] + a, col, v);
+                    if (r == 0) {
+                        for (int t = 1; t < 3; ++t) {
+                            if (freeIndex[std::size_t(3 * c + t)] >= 0) continue;
+                            const double sl = slipSign(c, t);
+                            if (sl != 0.0) slipTriplets.emplace_back(q.d[s] + a, col, sl * q.j[t][s][a]);
+                        }
+                    }
+                }
+            }
+            triplets.emplace_back(col, col, -epsRel * diag[std::size_t(unknown)]);
+        }
+        triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
+        assembleOrRefill(n, triplets, K, assembly, std::size_t(1) << 62);
+        Eigen::VectorXd sol;
+        bool stepFound = false;
+        if (freeUnknown != analysedFree || analysedFree.empty()) {
+            factor.analyzePattern(K, settings.patternCache);
+            analysedFree = freeUnknown;
+            ++out.patternAnalyses;
+        }
+        if (factor.factorize(K, slipTriplets.empty())) {
+            const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
+            work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
+            Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
+            stepFound = gmresRight(K, factor, Eigen::VectorXd(rv), sol, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work);
+        }
+        if (!stepFound) {
+            lu.analyzePattern(K);
+            lu.factorize(K);
+            if (lu.info() != Eigen::Success) break;
+            Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
+            sol = lu.solve(Eigen::VectorXd(rv));
+            work += std::uint64_t(K.nonZeros()) + 2 * std::uint64_t(lu.nnzL() + lu.nnzU());
+        }
+        work += rowWork;
+        for (int c = 0; c < nc; ++c) {
+            if (!touching[std::size_t(c)]) {
+                for (int r = 0; r < 3; ++r) dx[std::size_t(3 * c + r)] = -x[std::size_t(3 * c + r)];
+                continue;
+            }
+            const double pn = x[std::size_t(3 * c)];
+            const double dn = -sol[ndof + freeIndex[std::size_t(3 * c)]];
+            dx[std::size_t(3 * c)] = dn;
+            for (int r = 1; r < 3; ++r) {
+                const int fi = freeIndex[std::size_t(3 * c + r)];
+                dx[std::size_t(3 * c + r)] =
+                    fi >= 0 ? -sol[ndof + fi] : slipSign(c, r) * (pn + dn) - x[std::size_t(3 * c + r)];
+            }
+        }
+        bool finite = true;
+        for (double v : dx) finite = finite && std::isfinite(v);
+        if (!finite) break;
+        const int halvings = polish ? 0 : kHalvings;
+        double stepMerit = 0.0;
+        for (int h = 0, ok = 0; h <= halvings && !ok; ++h) {
+            const double alpha = std::ldexp(1.0, -h);
+            for (std::size_t i = 0; i < x.size(); ++i) xt[i] = x[i] + alpha * dx[i];
+            velocities(xt, ut);
+            work += rowWork;
+            stepMerit = merit(xt, ut);
+            ok = stepMerit < currentMerit || h == halvings;
+        }
+        xp = xt;
+        project(xp);
+        const bool moved = std::memcmp(xp.data(), xt.data(), xt.size() * sizeof(double)) != 0;
+        if (moved)
+            velocities(xp, up);
+        else
+            up = ut;
+        work += rowWork;
+        const double res = lcpResidual(xp, up);
+        knownResidual = moved ? -1.0 : res;
+        if (res <= tolAbs) {
+            x.swap(xp);
+            u.swap(up);
+            solved = true;
+            break;
+        }
+        if (res < bestResidual) {
+            bestResidual = res;
+            bestX = xp;
+            bestU = up;
+        }
+        x.swap(xt);
+        u.swap(ut);
+        currentMerit = stepMerit;
+        for (int c = 0; c < nc; ++c) {
+            state[std::size_t(3 * c)] = touching[std::size_t(c)];
+            state[std::size_t(3 * c + 1)] = comp[std::size_t(2 * c)];
+            state[std::size_t(3 * c + 2)] = comp[std::size_t(2 * c + 1)];
+        }
+        // States of one or two iterations before: the sub-problem is solved (or alternates between two faces of
+        // degenerate contacts); move the centre, tighten eps.
+        if (state == lastState || state == lastState2) {
+            center = x;
+            epsRel = std::max(kFloor, epsRel * kShrink);
+        }
+        lastState2.swap(lastState);
+        lastState = state;
+    }
+    out.pivots = 0;
+    out.work = work;
+    out.residual = lcpResidual(x, u);
+    out.scaledResidual = out.residual / scale;
+    if (!solved) {
+        if (bestResidual / scale <= options.acceptResidual) {
+            x.swap(bestX);
+            u.swap(bestU);
+            out.residual = bestResidual;
+            out.scaledResidual = bestResidual / scale;
+            out.status = LcpStatus::numerical_failure;
+            out.approximate = true;
+        } else {
+            out.message = "active-set path: not certified after " + std::to_string(iterations) + " iterations";
+            return out;
+        }
+    } else {
+        out.status = LcpStatus::solved;
+    }
+    out.activeSet = true;
+    out.warmFace = solved && phase == 0 && !out.interiorPoint;
+    out.message.clear();
+    // The answer, and the Stewart–Trinkle basis it stands on (the next step's warm guess) in increasing order: p_n > 0,
+    // the directions with beta > 0, and the slack where the contact slides on the diamond's rim.
+    out.impulses.resize(std::size_t(nc));
+    std::vector<typename D::Vec> tangent(static_cast<std::size_t>(nc), D::zeroVec());
+    std::vector<double> f(std::size_t(2 * nc));
+    for (int c = 0; c < nc; ++c) {
+        const double pn = x[std::size_t(3 * c)], g1 = x[std::size_t(3 * c + 1)], g2 = x[std::size_t(3 * c + 2)];
+        const double f1 = 0.5 * (g1 + g2), f2 = 0.5 * (g1 - g2);
+        f[std::size_t(2 * c)] = f1;
+        f[std::size_t(2 * c + 1)] = f2;
+        out.impulses[std::size_t(c)] = pn;
+        tangent[std::size_t(c)] =
+            D::add(D::scale(f1, sys.dirs[std::size_t(c * k)]), D::scale(f2, sys.dirs[std::size_t(c * k + 1)]));
+        if (pn > 0.0) out.basis.push_back(c);
+    }
+    for (int c = 0; c < nc; ++c) {
+        const double f1 = f[std::size_t(2 * c)], f2 = f[std::size_t(2 * c + 1)];
+        const int t0 = layout.tangentOffset() + c * k;
+        if (f1 > 0.0) out.basis.push_back(t0);
+        if (f2 > 0.0) out.basis.push_back(t0 + 1);
+        if (f1 < 0.0) out.basis.push_back(t0 + 2);
+        if (f2 < 0.0) out.basis.push_back(t0 + 3);
+    }
+    for (int c = 0; c < nc; ++c) {
+        const double pn = x[std::size_t(3 * c)];
+        const double f1 = f[std::size_t(2 * c)], f2 = f[std::size_t(2 * c + 1)];
+        const bool sliding = u[std::size_t(3 * c + 1)] != 0.0 || u[std::size_t(3 * c + 2)] != 0.0;
+        if (pn > 0.0 && std::fabs(f1) + std::fabs(f2) >= mu[std::size_t(c)] * pn && sliding)
+            out.basis.push_back(layout.slackOffset() + c);
+    }
+    for (const auto& t : tangent) {
+        for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(t[d]);
+    }
+    applyImpulses(ioBodies, contacts, out.impulses, &tangent);
+    return out;
+}
+
+}  // namespace detail
+}  // namespace unison
