@@ -831,6 +831,30 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
         lastState2.swap(lastState);
         lastState = state;
     }
+    // The Stewart–Trinkle basis an iterate stands on (the next step's warm guess), in increasing order: p_n > 0, the directions with beta > 0, and lambda where the contact slides on the
+    // diamond's rim.
+    auto basisOf = [&](const std::vector<double>& xs, const std::vector<double>& us, std::vector<int>& basis) {
+        basis.clear();
+        for (int c = 0; c < nc; ++c)
+            if (xs[std::size_t(3 * c)] > 0.0) basis.push_back(c);
+        for (int c = 0; c < nc; ++c) {
+            const double g1 = xs[std::size_t(3 * c + 1)], g2 = xs[std::size_t(3 * c + 2)];
+            const double f1 = 0.5 * (g1 + g2), f2 = 0.5 * (g1 - g2);
+            const int t0 = layout.tangentOffset() + c * k;
+            if (f1 > 0.0) basis.push_back(t0);
+            if (f2 > 0.0) basis.push_back(t0 + 1);
+            if (f1 < 0.0) basis.push_back(t0 + 2);
+            if (f2 < 0.0) basis.push_back(t0 + 3);
+        }
+        for (int c = 0; c < nc; ++c) {
+            const double pn = xs[std::size_t(3 * c)];
+            const double g1 = xs[std::size_t(3 * c + 1)], g2 = xs[std::size_t(3 * c + 2)];
+            const double f1 = 0.5 * (g1 + g2), f2 = 0.5 * (g1 - g2);
+            const bool sliding = us[std::size_t(3 * c + 1)] != 0.0 || us[std::size_t(3 * c + 2)] != 0.0;
+            if (pn > 0.0 && std::fabs(f1) + std::fabs(f2) >= mu[std::size_t(c)] * pn && sliding)
+                basis.push_back(layout.slackOffset() + c);
+        }
+    };
     out.pivots = 0;
     out.work = work;
     out.residual = lcpResidual(x, u);
@@ -853,36 +877,16 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     out.activeSet = true;
     out.warmFace = solved && phase == 0 && !out.interiorPoint;
     out.message.clear();
-    // The answer, and the Stewart–Trinkle basis it stands on (the next step's warm guess) in increasing order: p_n > 0,
-    // the directions with beta > 0, and the slack where the contact slides on the diamond's rim.
     out.impulses.resize(std::size_t(nc));
     std::vector<typename D::Vec> tangent(static_cast<std::size_t>(nc), D::zeroVec());
-    std::vector<double> f(std::size_t(2 * nc));
     for (int c = 0; c < nc; ++c) {
-        const double pn = x[std::size_t(3 * c)], g1 = x[std::size_t(3 * c + 1)], g2 = x[std::size_t(3 * c + 2)];
+        const double g1 = x[std::size_t(3 * c + 1)], g2 = x[std::size_t(3 * c + 2)];
         const double f1 = 0.5 * (g1 + g2), f2 = 0.5 * (g1 - g2);
-        f[std::size_t(2 * c)] = f1;
-        f[std::size_t(2 * c + 1)] = f2;
-        out.impulses[std::size_t(c)] = pn;
+        out.impulses[std::size_t(c)] = x[std::size_t(3 * c)];
         tangent[std::size_t(c)] =
             D::add(D::scale(f1, sys.dirs[std::size_t(c * k)]), D::scale(f2, sys.dirs[std::size_t(c * k + 1)]));
-        if (pn > 0.0) out.basis.push_back(c);
     }
-    for (int c = 0; c < nc; ++c) {
-        const double f1 = f[std::size_t(2 * c)], f2 = f[std::size_t(2 * c + 1)];
-        const int t0 = layout.tangentOffset() + c * k;
-        if (f1 > 0.0) out.basis.push_back(t0);
-        if (f2 > 0.0) out.basis.push_back(t0 + 1);
-        if (f1 < 0.0) out.basis.push_back(t0 + 2);
-        if (f2 < 0.0) out.basis.push_back(t0 + 3);
-    }
-    for (int c = 0; c < nc; ++c) {
-        const double pn = x[std::size_t(3 * c)];
-        const double f1 = f[std::size_t(2 * c)], f2 = f[std::size_t(2 * c + 1)];
-        const bool sliding = u[std::size_t(3 * c + 1)] != 0.0 || u[std::size_t(3 * c + 2)] != 0.0;
-        if (pn > 0.0 && std::fabs(f1) + std::fabs(f2) >= mu[std::size_t(c)] * pn && sliding)
-            out.basis.push_back(layout.slackOffset() + c);
-    }
+    basisOf(x, u, out.basis);
     for (const auto& t : tangent) {
         for (int d = 0; d < D::kDim; ++d) out.tangentImpulses.push_back(t[d]);
     }

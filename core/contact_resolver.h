@@ -216,7 +216,8 @@ struct ActiveSetOptions {
 /// options.lcp.residualTolerance (the rule of every Lemke answer), with the bodies updated as resolveWithFriction
 /// would; a best iterate within options.acceptResidual is applied as `numerical_failure` with `approximate` set (a
 /// near miss, as Lemke's); otherwise `pivot_limit` and the bodies untouched, for Lemke to take over. `activeSet` is
-/// set on every applied answer. 2D only (in 3D it declines).
+/// set on every applied answer. 3D takes the pyramid of four directions (core/active_set3_impl.h: a box per contact
+/// in the path's coordinates); other 3D pyramids are declined.
 template <class D>
 Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& contacts,
                             const std::vector<double>& warm, const ResolverOptions& options,

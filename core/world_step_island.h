@@ -188,8 +188,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
     const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
+    std::vector<ResolverBody<D>> pathBodies;  // 3D: the bodies after a path near miss held in reserve
+    Resolution pathNearMiss;
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
+        bool reserved = false;
         Resolution res;
         res.status = LcpStatus::pivot_limit;
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
@@ -272,20 +275,37 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             // 1e-7 m/s dead zone the settled 20-row testbed pyramid moved 2.2e-8 m from 5 s to 25 s, without 4.4e-10,
             // and the settled 30-row one re-solved its face on every other step.
             if (handedOver || (bigIsland && !hugeIsland)) pathOptions.tangentDeadZone = 0.0;
+            // A 3D near miss of the path above kPathAccept3 (scaled) is held in reserve: Lemke tries the island, and
+            // the near miss is applied only if Lemke fails too (instead of the frictionless fallback).
+            const bool reserveNearMiss = D::kDim == 3;
+            if (reserveNearMiss) pathBodies = ioBodies;
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;
-            if (usable(fast)) {
+            if (usable(fast) && reserveNearMiss && fast.approximate && fast.scaledResidual > kPathAccept3) {
+                ioBodies.swap(pathBodies);  // the bodies before the path; pathBodies holds its near miss
+                pathNearMiss = std::move(fast);
+                reserved = true;
+            } else if (usable(fast)) {
                 res = std::move(fast);
                 done = true;
                 ++stats.activeSetIslands;
             }
         }
+        auto useReserve = [&]() {
+            ioBodies.swap(pathBodies);
+            res = std::move(pathNearMiss);
+            reserved = false;
+            done = true;
+            ++stats.activeSetIslands;
+        };
+        if (!done && reserved && budgeted && spent >= job.grant) useReserve();
         if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             charge(res);
             if (closedForm && !res.fastPath && assembly > work::kClosedFormIsland) spent += assembly - work::kClosedFormIsland;
+            if (reserved && !usable(res)) useReserve();
         }
         if (options.lcp.warmBasis) {
             if (!res.warmStarted) ++stats.discardedGuesses;

@@ -226,14 +226,14 @@ TEST_CASE("the toppling 3D heap's landing islands are answered on the active-set
         pathIslands += w.stats().activeSetIslands;
         restarts += w.stats().interiorPointRestarts;
         failed += w.stats().failedIslands;
-        worst = std::max(worst, w.stats().maxScaledResidual);
+        worst = std::max(worst, w.stats().maxResidual);
     }
-    MESSAGE("path islands " << pathIslands << ", interior-point restarts " << restarts << ", worst scaled residual "
+    MESSAGE("path islands " << pathIslands << ", interior-point restarts " << restarts << ", worst residual "
                             << worst);
     CHECK(pathIslands >= 300);
     CHECK(restarts > 0);
     CHECK(failed == 0);
-    CHECK(worst <= 1e-6);
+    CHECK(worst <= 1e-6);  // m/s, bench_world3d's target (near misses of the path only within kPathAccept3)
 }
 
 }  // TEST_SUITE
