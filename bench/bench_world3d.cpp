@@ -55,7 +55,7 @@ struct Engine {
     double maxPenetration = 0.0;                              // m, deepest over the steps run
     std::function<double()> penetration = [] { return 0.0; };  // deepest penetration of the last step (m)
     int failed = 0;
-    long pivots = 0, discardedGuesses = 0, basisChange = 0;  // Unison only (StepStats)
+    long pivots = 0, discardedGuesses = 0, basisChange = 0, pathIslands = 0, restarts = 0;  // Unison only (StepStats)
     int pivotSteps = 0;                                       // steps with at least one pivot
     std::function<int()> fallbacks = [] { return 0; };
 };
@@ -75,7 +75,7 @@ std::unique_ptr<Engines> makeEngines(const nlohmann::json& scene, bool withMlcp)
     World3* w = e->unison.world.get();
     const std::vector<BodyId> ids = e->unison.bodies;
     Engine u;
-    u.name = "Unison (Lemke LCP)";
+    u.name = "Unison (exact LCP)";
     Engines* self = e.get();
     u.step = [w, self] {
         w->step();
@@ -87,6 +87,8 @@ std::unique_ptr<Engines> makeEngines(const nlohmann::json& scene, bool withMlcp)
         me.pivotSteps += st.pivots > 0 ? 1 : 0;
         me.discardedGuesses += st.discardedGuesses;
         me.basisChange += st.basisChange;
+        me.pathIslands += st.activeSetIslands;
+        me.restarts += st.interiorPointRestarts;
     };
     u.fallbacks = [self] { return self->list[0].failed; };  // friction LCPs replaced by the frictionless one
     u.penetration = [w] { return w->stats().maxPenetration; };
@@ -249,6 +251,11 @@ nlohmann::json runPile(const std::string& title, const nlohmann::json& scene, in
                 "unknown); guesses discarded for a cold start: %ld\n", un.pivots, un.pivotSteps, times[0].size(),
                 times[0].empty() ? 0.0 : double(un.pivots) / double(times[0].size()), un.basisChange,
                 un.basisChange > 0 ? double(un.pivots) / double(un.basisChange) : 0.0, un.discardedGuesses);
+    // Islands of 64+ contacts go to the active-set path first (docs/solver.md); Lemke takes what it does not certify.
+    std::printf("  Unison islands answered by the active-set path: %ld (interior-point restarts %ld)\n", un.pathIslands,
+                un.restarts);
+    out["unison_path_islands"] = un.pathIslands;
+    out["unison_interior_point_restarts"] = un.restarts;
     out["unison_pivots"] = un.pivots;
     out["unison_basis_change"] = un.basisChange;
     out["unison_discarded_guesses"] = un.discardedGuesses;

@@ -600,6 +600,9 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     std::vector<double> bestX = x, bestU = u, warmX = x, warmU = u;
     bool interiorTried = false, solved = false;
     int iterations = 0;
+    // The last iteration's step came from `factor`: K, factor, the states and freeIndex describe its system
+    // (ActiveSetOptions::incomingVelocity uses them once more).
+    bool lastFactored = false;
     double bestResidual = lcpResidual(x, u);
     const bool cold = std::all_of(x.begin(), x.end(), [](double v) { return v == 0.0; });
     const bool coldInterior = cold && settings.interiorPoint && settings.coldInteriorPoint;
@@ -610,6 +613,11 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     epsRel = cold && !coldInterior ? kEps0 : kPolishEps;
     double knownResidual = bestResidual;
     std::vector<std::uint8_t> state(std::size_t(3 * nc));
+    // The bound a slipping component keeps: +-mu p_n (0 without friction).
+    auto slipSignOf = [&](int c, int r) -> double {
+        if (!frictional[std::size_t(c)]) return 0.0;
+        return comp[std::size_t(2 * c + r - 1)] == kPlus ? mu[std::size_t(c)] : -mu[std::size_t(c)];
+    };
     for (;;) {
         if ((knownResidual >= 0.0 ? knownResidual : lcpResidual(x, u)) <= tolAbs) {
             solved = true;
@@ -694,11 +702,7 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
                 }
             }
         }
-        // The bound a slipping component keeps: +-mu p_n (0 without friction).
-        auto slipSign = [&](int c, int r) -> double {
-            if (!frictional[std::size_t(c)]) return 0.0;
-            return comp[std::size_t(2 * c + r - 1)] == kPlus ? mu[std::size_t(c)] : -mu[std::size_t(c)];
-        };
+        const auto& slipSign = slipSignOf;
         const int nf = int(freeUnknown.size());
         const int n = ndof + nf;
         rhs.assign(std::size_t(n), 0.0);
@@ -743,9 +747,10 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
             triplets.emplace_back(col, col, -epsRel * diag[std::size_t(unknown)]);
         }
         triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
-        assembleOrRefill(n, triplets, K, assembly, std::size_t(1) << 62);
+        assembleOrRefill(n, triplets, K, assembly, std::size_t(1) << 62);  // no plan: patterns rarely repeat
         Eigen::VectorXd sol;
         bool stepFound = false;
+        lastFactored = false;
         if (freeUnknown != analysedFree || analysedFree.empty()) {
             factor.analyzePattern(K, settings.patternCache);
             analysedFree = freeUnknown;
@@ -756,6 +761,7 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
             work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
             Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
             stepFound = gmresRight(K, factor, Eigen::VectorXd(rv), sol, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work);
+            lastFactored = stepFound;
         }
         if (!stepFound) {
             lu.analyzePattern(K);
@@ -875,6 +881,85 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
         out.status = LcpStatus::solved;
     }
     out.activeSet = true;
+    // ActiveSetOptions::incomingVelocity (3D: vx, vy, vz, wx, wy, wz per body), as in 2D: the impulses the next step
+    // needs on the same face if only the velocities change. One more solve with the last factors takes the velocity
+    // error J (v+ - v_in) of the answer carried unchanged out of it.
+    if (settings.incomingVelocity && solved && lastFactored &&
+        settings.incomingVelocity->size() == std::size_t(6 * nb)) {
+        const std::vector<double>& vin = *settings.incomingVelocity;
+        velocities(x, up);  // mom: J~^T p per normalised degree of freedom
+        work += rowWork;
+        std::vector<typename D::Vec> dLin(static_cast<std::size_t>(nb), D::zeroVec());
+        std::vector<typename D::Ang> dAng(static_cast<std::size_t>(nb), D::zeroAng());  // v+ - v_in, world frame
+        for (int b = 0; b < nb; ++b) {
+            const int d = dof[std::size_t(b)];
+            if (d < 0) continue;
+            const ResolverBody<D>& B = ioBodies[std::size_t(b)];
+            const typename D::Ang theta(mom[std::size_t(d + 3)], mom[std::size_t(d + 4)], mom[std::size_t(d + 5)]);
+            const typename D::InvInertia& L = factorL[std::size_t(b)];
+            const typename D::Ang dw(L(0, 0) * theta[0], L(1, 0) * theta[0] + L(1, 1) * theta[1],
+                                     L(2, 0) * theta[0] + L(2, 1) * theta[1] + L(2, 2) * theta[2]);
+            for (int a = 0; a < 3; ++a) {
+                dLin[std::size_t(b)][a] = B.velocity[a] + rootInvMass[std::size_t(b)] * mom[std::size_t(d + a)] -
+                                          vin[std::size_t(6 * b + a)];
+                dAng[std::size_t(b)][a] = B.angularVelocity[a] + dw[a] - vin[std::size_t(6 * b + 3 + a)];
+            }
+        }
+        auto rowChange = [&](const JacobianRow<D>& row) {
+            double sum = 0.0;
+            for (int sd = 0; sd < 2; ++sd) {
+                if (dof[std::size_t(row.body[sd])] < 0) continue;
+                sum += D::dot(row.lin[sd], dLin[std::size_t(row.body[sd])]) +
+                       D::angDot(row.ang[sd], dAng[std::size_t(row.body[sd])]);
+            }
+            return sum;
+        };
+        const int nf = int(freeUnknown.size());
+        Eigen::VectorXd rv = Eigen::VectorXd::Zero(ndof + nf);
+        for (int f = 0; f < nf; ++f) {
+            const int unknown = freeUnknown[std::size_t(f)];
+            const int c = unknown / 3, r = unknown % 3;
+            double jd = 0.0;
+            if (r == 0) {
+                jd = rowChange(sys.rows[std::size_t(c)]);
+            } else {
+                const double j1 = rowChange(sys.rows[std::size_t(layout.tangentOffset() + c * k)]);
+                const double j2 = rowChange(sys.rows[std::size_t(layout.tangentOffset() + c * k + 1)]);
+                jd = r == 1 ? 0.5 * (j1 + j2) : 0.5 * (j1 - j2);
+            }
+            rv[ndof + f] = -(u[std::size_t(unknown)] + jd);
+        }
+        const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
+        Eigen::VectorXd ss;
+        if (gmresRight(K, factor, rv, ss, gmres, std::uint64_t(K.nonZeros()) + 4 * nnzL, work)) {
+            // Only a prediction that keeps the face (as in 2D).
+            std::vector<double> next(x.size(), 0.0);
+            bool keepsFace = true;
+            for (int c = 0; c < nc && keepsFace; ++c) {
+                if (!touching[std::size_t(c)]) continue;
+                const double pn = x[std::size_t(3 * c)] - ss[ndof + freeIndex[std::size_t(3 * c)]];
+                next[std::size_t(3 * c)] = pn;
+                keepsFace = pn > 0.0 || x[std::size_t(3 * c)] <= tolAbs / diag[std::size_t(3 * c)];
+                for (int r = 1; r < 3 && keepsFace; ++r) {
+                    const int fi = freeIndex[std::size_t(3 * c + r)];
+                    const double g = fi >= 0 ? x[std::size_t(3 * c + r)] - ss[ndof + fi] : slipSignOf(c, r) * pn;
+                    next[std::size_t(3 * c + r)] = g;
+                    keepsFace = fi < 0 || std::fabs(g) <= mu[std::size_t(c)] * pn + tolAbs / diag[std::size_t(3 * c + r)];
+                }
+            }
+            if (keepsFace) {
+                project(next);
+                out.predictedImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+                for (int c = 0; c < nc; ++c) {
+                    const double g1 = next[std::size_t(3 * c + 1)], g2 = next[std::size_t(3 * c + 2)];
+                    const typename D::Vec t = D::add(D::scale(0.5 * (g1 + g2), sys.dirs[std::size_t(c * k)]),
+                                                     D::scale(0.5 * (g1 - g2), sys.dirs[std::size_t(c * k + 1)]));
+                    out.predictedImpulses.push_back(next[std::size_t(3 * c)]);
+                    for (int d = 0; d < D::kDim; ++d) out.predictedImpulses.push_back(t[d]);
+                }
+            }
+        }
+    }
     out.warmFace = solved && phase == 0 && !out.interiorPoint;
     out.message.clear();
     out.impulses.resize(std::size_t(nc));

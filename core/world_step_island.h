@@ -268,6 +268,19 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                     }
                     fastOptions.incomingVelocity = &incoming;
                 }
+            } else {
+                incoming.resize(6 * ioBodies.size());
+                for (std::size_t kk = 0; kk < ioBodies.size(); ++kk) {
+                    const ResolverBody<D>& B = ioBodies[kk];
+                    const bool dynamic = isDynamic(cold[std::size_t(setup.local[kk])]);
+                    const typename D::Vec v =
+                        dynamic ? D::sub(B.velocity, D::scale(1.0 / def.hz, def.gravity)) : B.velocity;
+                    for (int a = 0; a < 3; ++a) {
+                        incoming[6 * kk + std::size_t(a)] = v[a];
+                        incoming[6 * kk + 3 + std::size_t(a)] = B.angularVelocity[a];
+                    }
+                }
+                fastOptions.incomingVelocity = &incoming;
             }
             ResolverOptions pathOptions = options;
             // The path resolves creep below the dead zone (kSettledEntry). An island that lands on the path is never
