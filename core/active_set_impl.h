@@ -308,6 +308,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     std::vector<double> xi(x.size(), 0.0);
                     if (interiorPoint(xi)) {
                         out.interiorPoint = true;
+                        lastFactored = false;  // the factors describe the warm face, not this answer's
                         x.swap(xi);
                         project(x);
                         velocities(x, u);
