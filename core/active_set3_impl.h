@@ -277,12 +277,13 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     enum : std::uint8_t { kStick = 0, kPlus = 1, kMinus = 2 };
     std::vector<std::uint8_t> touching(static_cast<std::size_t>(nc), 0), comp(std::size_t(2 * nc), 0);
     std::vector<std::uint8_t> lastState, lastState2;
+    // freeIndex: an unknown's own index where it is free (its column in the system is ndof + it), -1 where not.
     std::vector<int> freeIndex(std::size_t(3 * nc)), freeUnknown;
-    std::vector<Eigen::Triplet<double>> triplets, slipTriplets;
+    std::vector<Eigen::Triplet<double>> triplets;
     Eigen::SparseMatrix<double> K;
     ColumnAssembly assembly;
     SymmetricPatternLu factor;
-    std::vector<int> analysedFree;
+    std::vector<int> systemPattern;
     GmresWorkspace gmres;
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
     std::vector<double> dx(x.size()), xt(x.size()), ut(x.size()), xp(x.size()), up(x.size()), rhs;
@@ -396,7 +397,7 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
             for (int r = 0; r < 3; ++r) freeIndex[std::size_t(3 * c + r)] = -1;
             touching[std::size_t(c)] = yn >= -tolAbs / gn ? 1 : 0;
             if (!touching[std::size_t(c)]) continue;
-            freeIndex[std::size_t(3 * c)] = int(freeUnknown.size());
+            freeIndex[std::size_t(3 * c)] = 3 * c;
             freeUnknown.push_back(3 * c);
             const double bound = mu[std::size_t(c)] * (polish ? pn : yn);
             for (int r = 1; r < 3; ++r) {
@@ -408,15 +409,14 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
                 std::uint8_t& st = comp[std::size_t(2 * c + r - 1)];
                 if (sticks) {
                     st = kStick;
-                    freeIndex[std::size_t(3 * c + r)] = int(freeUnknown.size());
+                    freeIndex[std::size_t(3 * c + r)] = 3 * c + r;
                     freeUnknown.push_back(3 * c + r);
                 } else {
                     st = yt >= 0.0 ? kPlus : kMinus;
                 }
             }
         }
-        const int nf = int(freeUnknown.size());
-        const int n = ndof + nf;
+        const int n = ndof + 3 * nc;
         rhs.assign(std::size_t(n), 0.0);
         // Known parts: separated contacts let go, slipping components move onto their bound.
         for (int c = 0; c < nc; ++c) {
@@ -430,45 +430,67 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
             }
             addBoxRows(rows[std::size_t(c)], h, rhs.data());
         }
-        for (int f = 0; f < nf; ++f) rhs[std::size_t(ndof + f)] = -ue[std::size_t(freeUnknown[std::size_t(f)])];
-        // K [v; q] = [I, J~_col^T; J~, -eps G] [v; q] = [known momentum; -u'] with q = -dp; a slipping component's
-        // bound adds +-mu times its row to the normal column (non-symmetric values, symmetric pattern).
-        triplets.clear();
-        slipTriplets.clear();
-        for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
-        for (int f = 0; f < nf; ++f) {
-            const int unknown = freeUnknown[std::size_t(f)];
-            const int c = unknown / 3, r = unknown % 3;
-            const BoxContactRows& q = rows[std::size_t(c)];
-            const int col = ndof + f;
-            for (int s = 0; s < 2; ++s) {
-                if (q.d[s] < 0) continue;
-                for (int a = 0; a < 6; ++a) {
-                    const double v = q.j[r][s][a];
-                    triplets.emplace_back(col, q.d[s] + a, v);
-                    triplets.emplace_back(q.d[s] + a, col, v);
-                    if (r == 0) {
-                        for (int t = 1; t < 3; ++t) {
-                            if (freeIndex[std::size_t(3 * c + t)] >= 0) continue;
-                            const double sl = slipSignOf(c, t);
-                            if (sl != 0.0) slipTriplets.emplace_back(q.d[s] + a, col, sl * q.j[t][s][a]);
-                        }
+        for (const int unknown : freeUnknown) rhs[std::size_t(ndof + unknown)] = -ue[std::size_t(unknown)];
+        // K [v; q] = [I, J~^T; J~, D] [v; q] = [known momentum; -u'] with q = -dp over every unknown of the island: a
+        // free one has its rows and D = -eps G, one that is not (a separated contact, a slipping component) zeros and
+        // D = -1, so q = 0 there. A slipping component's bound adds +-mu times its row to the normal column
+        // (non-symmetric values). The pattern is the island's whatever the states: analysed once (and found in the
+        // pattern cache on the next steps), its values written in place.
+        if (systemPattern.empty()) {
+            triplets.clear();
+            for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);
+            for (int unknown = 0; unknown < 3 * nc; ++unknown) {
+                const BoxContactRows& q = rows[std::size_t(unknown / 3)];
+                const int col = ndof + unknown;
+                for (int s = 0; s < 2; ++s) {
+                    if (q.d[s] < 0) continue;
+                    for (int a = 0; a < 6; ++a) {
+                        triplets.emplace_back(col, q.d[s] + a, 0.0);
+                        triplets.emplace_back(q.d[s] + a, col, 0.0);
                     }
                 }
+                triplets.emplace_back(col, col, 0.0);
             }
-            triplets.emplace_back(col, col, -epsRel * diag[std::size_t(unknown)]);
+            assembleColumns<true>(n, triplets, K, assembly);
+            systemPattern = assembly.planSlot;  // each entry's place in K's values, in the order above
+            factor.analyzePattern(K, settings.patternCache);
+            ++out.patternAnalyses;
         }
-        triplets.insert(triplets.end(), slipTriplets.begin(), slipTriplets.end());
-        assembleOrRefill(n, triplets, K, assembly, std::size_t(1) << 62);  // no plan: patterns rarely repeat
+        bool slips = false;
+        {
+            double* values = K.valuePtr();
+            const int* slot = systemPattern.data();
+            for (int i = 0; i < ndof; ++i) values[*slot++] = 1.0;
+            for (int unknown = 0; unknown < 3 * nc; ++unknown) {
+                const int c = unknown / 3, r = unknown % 3;
+                const BoxContactRows& q = rows[std::size_t(c)];
+                const bool isFree = freeIndex[std::size_t(unknown)] >= 0;
+                double sl[3] = {0.0, 0.0, 0.0};  // the slipping components' bounds, on the normal column
+                if (isFree && r == 0)
+                    for (int t = 1; t < 3; ++t)
+                        if (freeIndex[std::size_t(3 * c + t)] < 0) sl[t] = slipSignOf(c, t);
+                for (int s = 0; s < 2; ++s) {
+                    if (q.d[s] < 0) continue;
+                    for (int a = 0; a < 6; ++a) {
+                        const double v = isFree ? q.j[r][s][a] : 0.0;
+                        values[*slot++] = v;
+                        double w = v;
+                        for (int t = 1; t < 3; ++t) {
+                            if (sl[t] != 0.0) {
+                                w += sl[t] * q.j[t][s][a];
+                                slips = true;
+                            }
+                        }
+                        values[*slot++] = w;
+                    }
+                }
+                values[*slot++] = isFree ? -epsRel * diag[std::size_t(unknown)] : -1.0;
+            }
+        }
         Eigen::VectorXd sol;
         bool stepFound = false;
         lastFactored = false;
-        if (freeUnknown != analysedFree || analysedFree.empty()) {
-            factor.analyzePattern(K, settings.patternCache);
-            analysedFree = freeUnknown;
-            ++out.patternAnalyses;
-        }
-        if (factor.factorize(K, slipTriplets.empty())) {
+        if (factor.factorize(K, !slips)) {
             const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
             work += std::uint64_t(K.nonZeros()) + 8 * nnzL;
             Eigen::Map<const Eigen::VectorXd> rv(rhs.data(), n);
@@ -626,10 +648,8 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
             }
             return sum;
         };
-        const int nf = int(freeUnknown.size());
-        Eigen::VectorXd rv = Eigen::VectorXd::Zero(ndof + nf);
-        for (int f = 0; f < nf; ++f) {
-            const int unknown = freeUnknown[std::size_t(f)];
+        Eigen::VectorXd rv = Eigen::VectorXd::Zero(ndof + 3 * nc);
+        for (const int unknown : freeUnknown) {
             const int c = unknown / 3, r = unknown % 3;
             double jd = 0.0;
             if (r == 0) {
@@ -639,7 +659,7 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
                 const double j2 = rowChange(sys.rows[std::size_t(layout.tangentOffset() + c * k + 1)]);
                 jd = r == 1 ? 0.5 * (j1 + j2) : 0.5 * (j1 - j2);
             }
-            rv[ndof + f] = -(u[std::size_t(unknown)] + jd);
+            rv[ndof + unknown] = -(u[std::size_t(unknown)] + jd);
         }
         const std::uint64_t nnzL = std::uint64_t(factor.factorNonZeros());
         Eigen::VectorXd ss;
