@@ -239,11 +239,12 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     auto interiorPoint = [&](std::vector<double>& xOut) {
         std::fill(shift.begin(), shift.end(), 0.0);
         std::vector<double> xr(x.size()), ur(x.size());
+        BoxInteriorPointSystem ipSystem;  // one pattern for all the rounds
         double bestRound = std::numeric_limits<double>::infinity();
         bool any = false;
         for (int round = 0; round < kShiftRounds; ++round) {
             if (!boxInteriorPoint(rows, mu, frictional, diag, ndof, bMax, shiftedVelocities, shiftedResidual, tolAbs,
-                                  rowWork, settings.patternCache, settings.maxWork, work, xr))
+                                  rowWork, settings.patternCache, settings.maxWork, work, ipSystem, xr))
                 break;
             project(xr);
             velocities(xr, ur);

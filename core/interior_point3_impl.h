@@ -48,6 +48,18 @@ inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
     return sum;
 }
 
+// The body-space matrix I + J~^T H^-1 J~ of boxInteriorPoint: a fixed pattern (each contact couples its bodies'
+// degrees of freedom), assembled and analysed on the first iteration, its values refilled in the same order on every
+// later one. It lasts across the calls of one resolve (de Saxce's rounds solve the same island).
+struct BoxInteriorPointSystem {
+    std::vector<Eigen::Triplet<double>> kt;
+    std::vector<int> kpos;
+    Eigen::SparseMatrix<double> Kb;
+    ColumnAssembly assembly;
+    SymmetricPatternLu factor;
+    bool analysed = false;
+};
+
 // The interior-point answer of the convex relaxation min 1/2 p^T A p + b^T p over |g_r| <= mu p_n (p_n >= 0 where a
 // contact has no friction), Mehrotra's predictor-corrector as core/interior_point_impl.h in 2D; p = (p_n, g1, g2) per
 // contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs.
@@ -56,7 +68,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                       const std::vector<std::uint8_t>& frictional, const std::vector<double>& diag, int ndof,
                       double bMax, const Velocities& velocities, const Residual& lcpResidual, double tolAbs,
                       std::uint64_t rowWork, SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
-                      std::vector<double>& xOut) {
+                      BoxInteriorPointSystem& system, std::vector<double>& xOut) {
     const int nc = int(rows.size());
     int m = 0;
     for (int c = 0; c < nc; ++c) m += frictional[std::size_t(c)] ? 4 : 1;
@@ -96,14 +108,12 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         out[1] = H[1] * in[0] + H[3] * in[1] + H[4] * in[2];
         out[2] = H[2] * in[0] + H[4] * in[1] + H[5] * in[2];
     };
-    // The body-space matrix I + J~^T H^-1 J~: a fixed pattern (each contact couples its bodies' degrees of freedom),
-    // assembled once, its values refilled in the same order every iteration.
-    std::vector<Eigen::Triplet<double>> kt;
-    std::vector<int> kpos;
-    Eigen::SparseMatrix<double> Kb;
-    ColumnAssembly assembly;
-    SymmetricPatternLu factor;
-    bool analysed = false;
+    std::vector<Eigen::Triplet<double>>& kt = system.kt;
+    std::vector<int>& kpos = system.kpos;
+    Eigen::SparseMatrix<double>& Kb = system.Kb;
+    ColumnAssembly& assembly = system.assembly;
+    SymmetricPatternLu& factor = system.factor;
+    bool& analysed = system.analysed;
     std::vector<double> moment(std::size_t(std::max(ndof, 1)));
     Eigen::VectorXd rv(ndof), dv(ndof);
     auto direction = [&]() -> bool {
@@ -241,23 +251,31 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
             ++entry;
         };
         for (int i = 0; i < ndof; ++i) put(i, i, 1.0);
+        // Per contact J~^T H^-1 J~ on its sides' degrees of freedom: each value computed once, for entry (i, j) with
+        // side sa <= side sb (a <= b within one side), and put at (i, j) and (j, i), so K's values are symmetric to
+        // the bit, as its L D L^T factorisation takes them.
         for (int c = 0; c < nc; ++c) {
             const BoxContactRows& q = rows[std::size_t(c)];
             const double* H = &hinv[std::size_t(6 * c)];
             const double Hm[3][3] = {{H[0], H[1], H[2]}, {H[1], H[3], H[4]}, {H[2], H[4], H[5]}};
+            double hj[2][3][6];  // H^-1 J~ per side, row and component
             for (int sb = 0; sb < 2; ++sb) {
                 if (q.d[sb] < 0) continue;
-                // H^-1 J~ on side sb: per row r and component.
-                double hj[3][6];
                 for (int r = 0; r < 3; ++r)
                     for (int b = 0; b < 6; ++b)
-                        hj[r][b] = Hm[r][0] * q.j[0][sb][b] + Hm[r][1] * q.j[1][sb][b] + Hm[r][2] * q.j[2][sb][b];
-                for (int sa = 0; sa < 2; ++sa) {
-                    if (q.d[sa] < 0) continue;
-                    for (int b = 0; b < 6; ++b)
-                        for (int a = 0; a < 6; ++a)
-                            put(q.d[sa] + a, q.d[sb] + b,
-                                q.j[0][sa][a] * hj[0][b] + q.j[1][sa][a] * hj[1][b] + q.j[2][sa][a] * hj[2][b]);
+                        hj[sb][r][b] = Hm[r][0] * q.j[0][sb][b] + Hm[r][1] * q.j[1][sb][b] + Hm[r][2] * q.j[2][sb][b];
+            }
+            for (int sa = 0; sa < 2; ++sa) {
+                if (q.d[sa] < 0) continue;
+                for (int sb = sa; sb < 2; ++sb) {
+                    if (q.d[sb] < 0) continue;
+                    for (int a = 0; a < 6; ++a)
+                        for (int b = sa == sb ? a : 0; b < 6; ++b) {
+                            const double v = q.j[0][sa][a] * hj[sb][0][b] + q.j[1][sa][a] * hj[sb][1][b] +
+                                             q.j[2][sa][a] * hj[sb][2][b];
+                            put(q.d[sa] + a, q.d[sb] + b, v);
+                            if (sa != sb || a != b) put(q.d[sb] + b, q.d[sa] + a, v);
+                        }
                 }
             }
         }
