@@ -43,15 +43,21 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
     const std::uint64_t vectorWork = std::uint64_t(n);
     x = P.solve(b);
     work += applyWork;
+    // One pass over A for its row sums (the norm in the tolerance) and the first residual b - A x, accumulated per
+    // entry in column order onto b as Eigen evaluates b - A * x below (the same bits).
     std::vector<double> rowSum(std::size_t(n), 0.0);
+    Eigen::VectorXd r0 = b;
     for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+        const double xj = -x[j];
         for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
             rowSum[std::size_t(it.row())] += std::fabs(it.value());
+            r0[it.row()] += it.value() * xj;
         }
     }
     double normA = 0.0;
     for (double v : rowSum) normA = std::max(normA, v);
     const double tol = kGmresTolerance * (normA * std::sqrt(plainDot(x, x)) + std::sqrt(plainDot(b, b)));
+    bool first = true;
     int used = 0;
     const int m = kGmresIterations;
     ws.basis.resize(std::size_t(m + 1));
@@ -63,7 +69,8 @@ bool gmresRight(const Eigen::SparseMatrix<double>& A, const Preconditioner& P, c
     ws.y.assign(std::size_t(m), 0.0);
     auto H = [&](int i, int j) -> double& { return ws.h[std::size_t(j * (m + 1) + i)]; };
     for (;;) {
-        Eigen::VectorXd r = b - A * x;
+        Eigen::VectorXd r = first ? r0 : Eigen::VectorXd(b - A * x);
+        first = false;
         work += applyWork;
         const double beta = std::sqrt(plainDot(r, r));
         if (!(beta > tol)) return beta <= tol;  // also false for a NaN residual
