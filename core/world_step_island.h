@@ -222,7 +222,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const int pathFirst = D::kDim == 2 ? kPathFirstContacts : kPathFirstContacts3;
         const bool bigIsland = nc >= pathFirst && !setup.declined;
         const bool hugeIsland = nc >= kHugeIslandContacts && !setup.declined;
-        if (pathFits && nc >= kActiveSetMinContacts && (activeSetFirst || bigIsland)) {
+        const int pathMin = D::kDim == 2 ? kActiveSetMinContacts : kPathFirstContacts3;
+        if (pathFits && nc >= pathMin && (activeSetFirst || bigIsland)) {
             std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
             warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
             for (const PgsWarm<D>& w : setup.impulses) {
