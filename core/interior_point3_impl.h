@@ -70,8 +70,7 @@ struct BoxInteriorPointSystem {
 // contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs. A call after the
 // first of one resolve starts from the last call's point, each slack and multiplier raised to at least kWarmFloor of
 // the cold start's (an interior point again), and measures its gap against the first call's: de Saxce's rounds on the
-// toppling 100-cube heap took 22 % fewer iterations (floors of 0.3, 0.1, 0.05, 0.01: -3 %, -10 %, -7 %, -9 %
-// instructions over 200 steps).
+// toppling 100-cube heap took about a fifth fewer iterations (the floors measured: docs/solver-notes.md).
 template <class Velocities, class Residual>
 bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector<double>& mu,
                       const std::vector<std::uint8_t>& frictional, const std::vector<double>& diag, int ndof,
