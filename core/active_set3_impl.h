@@ -677,7 +677,8 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
                     const int fi = freeIndex[std::size_t(3 * c + r)];
                     const double g = fi >= 0 ? x[std::size_t(3 * c + r)] - ss[ndof + fi] : slipSignOf(c, r) * pn;
                     next[std::size_t(3 * c + r)] = g;
-                    keepsFace = fi < 0 || std::fabs(g) <= mu[std::size_t(c)] * pn + tolAbs / diag[std::size_t(3 * c + r)];
+                    keepsFace = fi < 0 ||
+                                std::fabs(g) <= mu[std::size_t(c)] * pn + tolAbs / diag[std::size_t(3 * c + r)];
                 }
             }
             if (keepsFace) {

@@ -108,8 +108,9 @@ constexpr int kPathStallLimit = 7;
 /// Set on every contact of an island that the path gave back (above), and kept by its answers while any of its
 /// contacts carries it: such an island is not handed over again.
 constexpr std::uint32_t kDeclinedEntry = 1u << 23;
-/// 2D islands with fewer contacts always go to Lemke (3D: kPathFirstContacts3): its warm start costs one factorisation of the guessed block, and a
-/// cold start about n/2 pivots of O(n) each, which the active-set iterations beat only on big islands (measured:
+/// 2D islands with fewer contacts always go to Lemke (3D: kPathFirstContacts3): its warm start costs one
+/// factorisation of the guessed block, and a cold start about n/2 pivots of O(n) each, which the active-set
+/// iterations beat only on big islands (measured:
 /// 290-contact pyramids 5.3 ms/step with Lemke against 107-325 ms/step; a 4760-contact pyramid started cold 0.18 s/step
 /// against more than 15 s/step).
 constexpr int kActiveSetMinContacts = 64;
