@@ -51,11 +51,14 @@ inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
 // What boxInteriorPoint keeps across the calls of one resolve (de Saxce's rounds solve the same island with b_n
 // shifted a little):
 //   - the body-space matrix I + J~^T H^-1 J~: a fixed pattern (each contact couples its bodies' degrees of freedom),
-//     assembled and analysed on the first iteration, its values refilled in the same order on every later one;
+//     assembled and analysed on the first iteration; on every later one each contact's values are added, in the same
+//     order, only where its L D L^T factorisation reads them (readAt: one of each symmetric pair);
 //   - the last call's final point (p, s, y) and its first gap mu0, from which the next call starts.
 struct BoxInteriorPointSystem {
     std::vector<Eigen::Triplet<double>> kt;
     std::vector<int> kpos;
+    std::vector<int> twinOf;  // per contact value (in the order computed): its first entry in kt, -(that + 1) if paired
+    std::vector<int> readAt;  // per contact value: the place in Kb's values the factorisation reads
     Eigen::SparseMatrix<double> Kb;
     ColumnAssembly assembly;
     SymmetricPatternLu factor;
@@ -263,21 +266,31 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                 H[1] = H[2] = H[3] = H[4] = H[5] = 0.0;
             }
         }
-        if (!analysed) kt.clear();
+        if (!analysed) {
+            kt.clear();
+            system.twinOf.clear();
+        }
         double* values = analysed ? Kb.valuePtr() : nullptr;
         if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
-        std::size_t entry = 0;
-        auto put = [&](int r, int col, double v) {
-            if (!analysed)
-                kt.emplace_back(r, col, v);
-            else
-                values[kpos[entry]] += v;
-            ++entry;
-        };
-        for (int i = 0; i < ndof; ++i) put(i, i, 1.0);
+        const int* readAt = system.readAt.data();
         // Per contact J~^T H^-1 J~ on its sides' degrees of freedom: each value computed once, for entry (i, j) with
-        // side sa <= side sb (a <= b within one side), and put at (i, j) and (j, i), so K's values are symmetric to
-        // the bit, as its L D L^T factorisation takes them.
+        // side sa <= side sb (a <= b within one side). The first iteration puts it at (i, j) and (j, i), so K's values
+        // are symmetric to the bit, as its L D L^T factorisation takes them; the later ones add it where the
+        // factorisation reads it (the same sums in the same order there).
+        auto put = [&](int r, int col, double v) {
+            if (analysed) {
+                values[*readAt++] += v;
+                return;
+            }
+            const bool twin = r != col;
+            system.twinOf.push_back(twin ? -int(kt.size()) - 1 : int(kt.size()));
+            kt.emplace_back(r, col, v);
+            if (twin) kt.emplace_back(col, r, v);
+        };
+        if (!analysed)
+            for (int i = 0; i < ndof; ++i) kt.emplace_back(i, i, 1.0);
+        else
+            for (int i = 0; i < ndof; ++i) values[kpos[std::size_t(i)]] += 1.0;
         for (int c = 0; c < nc; ++c) {
             const BoxContactRows& q = rows[std::size_t(c)];
             const double* H = &hinv[std::size_t(6 * c)];
@@ -298,7 +311,6 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                             const double v = q.j[0][sa][a] * hj[sb][0][b] + q.j[1][sa][a] * hj[sb][1][b] +
                                              q.j[2][sa][a] * hj[sb][2][b];
                             put(q.d[sa] + a, q.d[sb] + b, v);
-                            if (sa != sb || a != b) put(q.d[sb] + b, q.d[sa] + a, v);
                         }
                 }
             }
@@ -316,9 +328,16 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                                                      kt[t].row());
                     kpos[t] = int(at - rws);
                 }
+                system.readAt.clear();
+                for (const int first : system.twinOf) {
+                    const std::size_t t = std::size_t(first >= 0 ? first : -first - 1);
+                    const bool second = first < 0 && !factor.readsSymmetric(kt[t].row(), kt[t].col());
+                    system.readAt.push_back(kpos[second ? t + 1 : t]);
+                }
             }
             if (!factor.factorize(Kb, true)) return false;
-            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(factor.factorNonZeros()) + 2 * std::uint64_t(entry);
+            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(factor.factorNonZeros()) +
+                    2 * std::uint64_t(kt.size());
         }
         // Predictor (affine scaling).
         for (std::size_t jj = 0; jj < rc.size(); ++jj) rc[jj] = s[jj] * y[jj];
