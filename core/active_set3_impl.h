@@ -281,10 +281,19 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     // freeIndex: an unknown's own index where it is free (its column in the system is ndof + it), -1 where not.
     std::vector<int> freeIndex(std::size_t(3 * nc)), freeUnknown;
     std::vector<Eigen::Triplet<double>> triplets;
-    Eigen::SparseMatrix<double> K;
     ColumnAssembly assembly;
-    SymmetricPatternLu factor;
-    std::vector<int> systemPattern;
+    // The island's system: kept in the scratch (ActiveSetOptions::scratch) for the next call with the same pattern.
+    BoxSystem ownSystem;
+    BoxSystem* islandSystem = &ownSystem;
+    if (settings.scratch) {
+        std::vector<int> sides(std::size_t(2 * nc));
+        for (int c = 0; c < nc; ++c)
+            for (int s = 0; s < 2; ++s) sides[std::size_t(2 * c + s)] = rows[std::size_t(c)].d[s];
+        islandSystem = &settings.scratch->boxSystem(ndof, sides);
+    }
+    Eigen::SparseMatrix<double>& K = islandSystem->K;
+    SymmetricPatternLu& factor = islandSystem->factor;
+    std::vector<int>& systemPattern = islandSystem->planSlot;
     GmresWorkspace gmres;
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
     std::vector<double> dx(x.size()), xt(x.size()), ut(x.size()), xp(x.size()), up(x.size()), rhs;
@@ -435,8 +444,8 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
         // K [v; q] = [I, J~^T; J~, D] [v; q] = [known momentum; -u'] with q = -dp over every unknown of the island: a
         // free one has its rows and D = -eps G, one that is not (a separated contact, a slipping component) zeros and
         // D = -1, so q = 0 there. A slipping component's bound adds +-mu times its row to the normal column
-        // (non-symmetric values). The pattern is the island's whatever the states: analysed once (and found in the
-        // pattern cache on the next steps), its values written in place.
+        // (non-symmetric values). The pattern is the island's whatever the states: analysed once (kept in the scratch
+        // and found there on the next steps while the contacts stay), its values written in place.
         if (systemPattern.empty()) {
             triplets.clear();
             for (int i = 0; i < ndof; ++i) triplets.emplace_back(i, i, 1.0);

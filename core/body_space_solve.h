@@ -286,6 +286,19 @@ struct InteriorPointScratch {
     std::uint64_t refills = 0;  // calls whose system was refilled (a count, for tests)
 };
 
+// One island system of the 3D path (core/active_set3_impl.h): the pattern of its matrix over all the island's
+// unknowns, where each entry's value goes (planSlot, in the order the path writes them) and the analysed
+// factorisation. The pattern depends only on the degrees of freedom and on which two bodies' degrees of freedom each
+// contact couples (sides), so an island with the same ones reuses it as it stands.
+struct BoxSystem {
+    int ndof = -1;
+    std::vector<int> sides;  // per contact, the first degree of freedom of each of its bodies (-1: immovable)
+    Eigen::SparseMatrix<double> K;
+    std::vector<int> planSlot;
+    SymmetricPatternLu factor;
+    std::uint64_t lastUse = 0;
+};
+
 }  // namespace detail
 
 /// What the active-set path keeps between solves (ActiveSetOptions::scratch): buffers that keep their capacity, and
@@ -300,6 +313,32 @@ struct ActiveSetScratch {
     bool factorHoldsK = false;  ///< factor's analysis is that of K's pattern
     std::uint64_t refills = 0;  ///< iterations whose system was refilled in place (a count, for tests)
     detail::InteriorPointScratch interiorPoint;  ///< the interior-point restart's
+    /// The 3D path's island systems, the least recently used replaced first: a step of a heap solves a few islands
+    /// whose contacts stay the same for several steps.
+    std::vector<detail::BoxSystem> boxSystems;
+    std::uint64_t boxUses = 0;
+    static constexpr std::size_t kBoxSystems = 8;
+    /// The kept system with these degrees of freedom and sides, or the least recently used one emptied for them.
+    detail::BoxSystem& boxSystem(int ndof, const std::vector<int>& sides) {
+        ++boxUses;
+        detail::BoxSystem* oldest = nullptr;
+        for (detail::BoxSystem& b : boxSystems) {
+            if (b.ndof == ndof && b.sides == sides) {
+                b.lastUse = boxUses;
+                return b;
+            }
+            if (!oldest || b.lastUse < oldest->lastUse) oldest = &b;
+        }
+        if (boxSystems.size() < kBoxSystems) {
+            boxSystems.emplace_back();
+            oldest = &boxSystems.back();
+        }
+        oldest->ndof = ndof;
+        oldest->sides = sides;
+        oldest->planSlot.clear();
+        oldest->lastUse = boxUses;
+        return *oldest;
+    }
 };
 
 }  // namespace unison
