@@ -177,7 +177,8 @@ struct ActiveSetOptions {
     std::uint64_t maxWork = 0;       ///< stop once this many work units are spent (0: no limit)
     /// Analyses of system patterns kept between calls (nullptr: none); it changes the cost, never the answer.
     SymmetricPatternCache* patternCache = nullptr;
-    /// Buffers and the last system kept between calls (nullptr: none); it changes the cost, never the answer.
+    /// Buffers and systems kept between calls (nullptr: none): 2D the last system, 3D the 8 most recently used island
+    /// systems (core/body_space_solve.h). It changes the cost, never the answer or the work units.
     ActiveSetScratch* scratch = nullptr;
     /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
     /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's

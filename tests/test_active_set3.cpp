@@ -167,6 +167,50 @@ TEST_CASE("3D active-set path: a resting stack of cubes from a cold start is cer
     }
 }
 
+TEST_CASE("3D active-set path: a scratch keeps island systems across calls; the answers and work stay the same") {
+    const Stack3 big = restingStack(3, 3, 0.6), small = restingStack(2, 2, 0.6);
+    ResolverOptions options;
+    ActiveSetOptions plain;
+    plain.coldInteriorPoint = false;  // the primal-dual iteration from zero impulses: the island's system is factored
+    ActiveSetScratch scratch;
+    ActiveSetOptions kept = plain;
+    kept.scratch = &scratch;
+    auto solve = [&](const Stack3& s, const ActiveSetOptions& o) {
+        std::vector<Body3> bodies = s.bodies;
+        return resolveActiveSet(bodies, s.contacts, std::vector<double>(s.contacts.size() * 4, 0.0), options, o);
+    };
+    const Resolution refBig = solve(big, plain), refSmall = solve(small, plain);
+    REQUIRE(refBig.status == LcpStatus::solved);
+    REQUIRE(refSmall.status == LcpStatus::solved);
+    REQUIRE(refBig.patternAnalyses == 1);
+    REQUIRE(refSmall.patternAnalyses == 1);
+    // Two islands in turn: each system is assembled and analysed when first met, and found in the scratch after.
+    const Stack3* order[] = {&big, &small, &big, &small, &big};
+    for (int i = 0; i < 5; ++i) {
+        const Resolution& ref = order[i] == &big ? refBig : refSmall;
+        const Resolution r = solve(*order[i], kept);
+        REQUIRE(r.impulses.size() == ref.impulses.size());
+        CHECK(std::memcmp(r.impulses.data(), ref.impulses.data(), r.impulses.size() * sizeof(double)) == 0);
+        CHECK(std::memcmp(r.tangentImpulses.data(), ref.tangentImpulses.data(),
+                          r.tangentImpulses.size() * sizeof(double)) == 0);
+        CHECK(r.work == ref.work);  // work units do not depend on what the scratch holds
+        CHECK(r.patternAnalyses == (i < 2 ? 1 : 0));
+    }
+    CHECK(scratch.boxSystems.size() == 2);
+    // More islands than the scratch keeps: the least recently used ones make room, the answers stay the same.
+    for (int columns = 1; columns <= int(ActiveSetScratch::kBoxSystems) + 1; ++columns) {
+        const Stack3 s = restingStack(columns, 2, 0.6);
+        const Resolution ref = solve(s, plain);
+        const Resolution r = solve(s, kept);
+        REQUIRE(r.status == ref.status);
+        CHECK(std::memcmp(r.impulses.data(), ref.impulses.data(), r.impulses.size() * sizeof(double)) == 0);
+    }
+    CHECK(scratch.boxSystems.size() == ActiveSetScratch::kBoxSystems);
+    const Resolution again = solve(big, kept);  // evicted by the nine islands above: assembled again
+    CHECK(again.patternAnalyses == 1);
+    CHECK(std::memcmp(again.impulses.data(), refBig.impulses.data(), refBig.impulses.size() * sizeof(double)) == 0);
+}
+
 TEST_CASE("3D active-set path: agrees with Lemke on a landing cube that slides, turns or sticks") {
     // (vx, wy, mu): sliding along a diagonal, sliding while turning, stopped by friction.
     const double cases[][3] = {{1.0, 0.0, 0.5}, {0.1, 0.0, 0.5}, {2.0, 1.5, 0.3}, {0.5, -2.0, 0.8}, {3.0, 0.0, 0.1}};
