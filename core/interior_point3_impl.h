@@ -92,7 +92,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
     constexpr double kWarmFloor = 0.1;
     const bool warm = system.hasPoint && system.p.size() == n3;
     for (int c = 0; c < nc; ++c) {
-        for (int i = 0; i < count(c); ++i) {
+        for (int i = 0, cnt = count(c); i < cnt; ++i) {
             const std::size_t jj = std::size_t(4 * c + i);
             s[jj] = v0 / diag[std::size_t(3 * c)];
             y[jj] = v0;
@@ -146,7 +146,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         std::fill(moment.begin(), moment.end(), 0.0);
         for (int c = 0; c < nc; ++c) {
             double w[4] = {0.0, 0.0, 0.0, 0.0}, cw[3], hg[3];
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 w[i] = (rc[jj] + y[jj] * rp[jj]) / s[jj];
             }
@@ -163,7 +163,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
             for (int r = 0; r < 3; ++r)
                 rest[r] = g[std::size_t(3 * c + r)] - (ndof > 0 ? boxRowDot(rows[std::size_t(c)], r, dv.data()) : 0.0);
             applyHinv(c, rest, &dp[std::size_t(3 * c)]);
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 ds[jj] = cp(dp, c, i) + rp[jj];
                 dy[jj] = -(rc[jj] + y[jj] * ds[jj]) / s[jj];
@@ -176,7 +176,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
     auto maxStep = [&](const std::vector<double>& v, const std::vector<double>& dvv) {
         double a = 1.0;
         for (int c = 0; c < nc; ++c) {
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 if (dvv[jj] < 0.0) a = std::min(a, -v[jj] / dvv[jj]);
             }
@@ -187,7 +187,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
     auto activeOf = [&](int c) -> std::uint8_t {
         const double gn = diag[std::size_t(3 * c)];
         std::uint8_t bits = 0;
-        for (int i = 0; i < count(c); ++i) {
+        for (int i = 0, cnt = count(c); i < cnt; ++i) {
             const std::size_t jj = std::size_t(4 * c + i);
             if (s[jj] * gn <= y[jj]) bits = std::uint8_t(bits | (1u << i));
         }
@@ -212,7 +212,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                 rd[jj] = frictional[std::size_t(c)] || r == 0 ? uu[jj] - cy[r] : 0.0;  // no friction: g stays 0
                 rdMax = std::max(rdMax, std::fabs(rd[jj]));
             }
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 rp[jj] = cp(p, c, i) - s[jj];
                 rpMax = std::max(rpMax, std::fabs(rp[jj]) * diag[std::size_t(3 * c)]);
@@ -245,7 +245,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         for (int c = 0; c < nc; ++c) {
             const double gn = diag[std::size_t(3 * c)];
             double e[4] = {0.0, 0.0, 0.0, 0.0};
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 e[i] = std::min(s[jj] / y[jj], 1e12 / gn);
             }
@@ -351,7 +351,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         dyAff = dy;
         // Corrector.
         for (int c = 0; c < nc; ++c) {
-            for (int i = 0; i < count(c); ++i) {
+            for (int i = 0, cnt = count(c); i < cnt; ++i) {
                 const std::size_t jj = std::size_t(4 * c + i);
                 rc[jj] = s[jj] * y[jj] + dsAff[jj] * dyAff[jj] - sigma * mub;
             }
