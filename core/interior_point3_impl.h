@@ -57,8 +57,7 @@ inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
 struct BoxInteriorPointSystem {
     std::vector<Eigen::Triplet<double>> kt;
     std::vector<int> kpos;
-    std::vector<int> twinOf;  // per contact value (in the order computed): its first entry in kt, -(that + 1) if paired
-    std::vector<int> readAt;  // per contact value: the place in Kb's values the factorisation reads
+    std::vector<int> readAt;  // per contact value (in the order computed): the place in Kb's values the factor reads
     Eigen::SparseMatrix<double> Kb;
     ColumnAssembly assembly;
     SymmetricPatternLu factor;
@@ -266,10 +265,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                 H[1] = H[2] = H[3] = H[4] = H[5] = 0.0;
             }
         }
-        if (!analysed) {
-            kt.clear();
-            system.twinOf.clear();
-        }
+        if (!analysed) kt.clear();
         double* values = analysed ? Kb.valuePtr() : nullptr;
         if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
         const int* readAt = system.readAt.data();
@@ -282,10 +278,8 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                 values[*readAt++] += v;
                 return;
             }
-            const bool twin = r != col;
-            system.twinOf.push_back(twin ? -int(kt.size()) - 1 : int(kt.size()));
             kt.emplace_back(r, col, v);
-            if (twin) kt.emplace_back(col, r, v);
+            if (r != col) kt.emplace_back(col, r, v);
         };
         if (!analysed)
             for (int i = 0; i < ndof; ++i) kt.emplace_back(i, i, 1.0);
@@ -328,11 +322,14 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                                                      kt[t].row());
                     kpos[t] = int(at - rws);
                 }
+                // The contact values in kt after the mass diagonal: one entry on the diagonal, else a pair (i, j),
+                // (j, i) of which the factorisation reads one.
                 system.readAt.clear();
-                for (const int first : system.twinOf) {
-                    const std::size_t t = std::size_t(first >= 0 ? first : -first - 1);
-                    const bool second = first < 0 && !factor.readsSymmetric(kt[t].row(), kt[t].col());
+                for (std::size_t t = std::size_t(ndof); t < kt.size(); ++t) {
+                    const bool pair = kt[t].row() != kt[t].col();
+                    const bool second = pair && !factor.readsSymmetric(kt[t].row(), kt[t].col());
                     system.readAt.push_back(kpos[second ? t + 1 : t]);
+                    if (pair) ++t;
                 }
             }
             if (!factor.factorize(Kb, true)) return false;

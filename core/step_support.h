@@ -124,8 +124,9 @@ constexpr int kActiveSetMinContacts = 64;
 constexpr int kPathFirstContacts = 384;
 /// The same for 3D islands (pyramid of four directions), and the smallest 3D island the path takes at all (2D:
 /// kActiveSetMinContacts): every island of 32 or more. On the toppling 100-cube heap (callgrind, scratch driver)
-/// 32 instead of 64: its landing's first 34 steps -11 % instructions, 200 steps -7 %; 16: +10 % over the 34 steps
-/// (Lemke answers islands of a few cubes in fewer instructions). The column pile and the drop heap: no change.
+/// 32 instead of 64: its landing's first 34 steps -11 % instructions, 200 steps -7 %; 16 instead of 32: +24 % over
+/// the 34 steps (+16 % measured again with the kept island systems; Lemke answers islands of a few cubes in fewer
+/// instructions). The column pile and the drop heap: no change.
 constexpr int kPathFirstContacts3 = 32;
 /// Iterations of the active-set phase for 3D islands (ActiveSetOptions::maxIterations; 2D keeps its default 12).
 /// 30 rather than 12: on the drop heap's landing islands of ~200 contacts phase 1 was still converging after 12
