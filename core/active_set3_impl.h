@@ -14,8 +14,8 @@
 //     and mu p_n -+ g2 >= 0; their Newton block C^T (Y/S) C is an arrow matrix whose inverse has a closed form in
 //     e = s / y (no cancellation when the e span many orders);
 //   - the relaxation lets sliding contacts separate at mu times their sliding speed, and 3D landings slide more than
-//     the 2D piles the restart was made for: the restart repeats it with b_n shifted by that amount (de Saxce's fixed
-//     point, at most 6 rounds) and keeps the round closest to an answer;
+//     the 2D piles the restart was made for: the restart raises b_n by that amount, taken from each iteration's own
+//     iterate (de Saxce's fixed point followed inside the interior point);
 //   - the active-set iteration, its phases (0: warm face, 1: semismooth Newton with a proximal term from the warm
 //     start or from the restart's answer, 2: best face) and the certification against the Stewart–Trinkle LCP itself
 //     are the 2D path's, except that phase 1 moves its centre when the states repeat those of one or two iterations
@@ -221,14 +221,25 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
         x[std::size_t(3 * c + 1)] = f1 + f2;
         x[std::size_t(3 * c + 2)] = f1 - f2;
     }
-    // The interior-point restart: the relaxation's answer, then rounds of de Saxce's fixed point. The relaxation lets
-    // a sliding contact separate at mu lambda (lambda = |u_g1| + |u_g2| = max(|u1|, |u2|), its sliding speed); each
-    // round solves it again with b_n raised by mu lambda of the last round's answer, so that where the shift stands
-    // still the relaxation's answer has u_n = 0 on every loaded contact, the LCP's. Each round is a convex problem.
-    constexpr int kShiftRounds = 6;  // the toppling 100-cube heap: 6 rounds 5.6 ms/step, 12 rounds 7.4 (solver-notes.md)
+    // The interior-point restart: the answer of the convex relaxation with de Saxce's fixed point followed inside the
+    // iteration. The relaxation lets a sliding contact separate at mu lambda (lambda = |u_g1| + |u_g2| = max(|u1|,
+    // |u2|), its sliding speed); raising b_n by mu lambda removes that, and where the shift and the answer agree every
+    // loaded contact has u_n = 0, the LCP's. From the interior point's fourth iteration on, each iteration sets the
+    // shift from its own iterate's sliding speeds before it computes its residuals (the first iterations' speeds are
+    // those of a point far inside the cones). Solving the relaxation again with the shift of the last answer (rounds,
+    // each convex) converges only linearly, 2-3x a round on the toppling heap's landing islands (solver-notes.md).
+    constexpr int kShiftFixedIterations = 3;
     std::vector<double> shift(static_cast<std::size_t>(nc), 0.0), unshifted(x.size());
+    int velocityCalls = 0;
     auto shiftedVelocities = [&](const std::vector<double>& xx, std::vector<double>& uu) {
         velocities(xx, uu);
+        if (++velocityCalls > kShiftFixedIterations) {
+            for (int c = 0; c < nc; ++c) {
+                if (!frictional[std::size_t(c)]) continue;
+                shift[std::size_t(c)] = mu[std::size_t(c)] * (std::fabs(uu[std::size_t(3 * c + 1)]) +
+                                                              std::fabs(uu[std::size_t(3 * c + 2)]));
+            }
+        }
         for (int c = 0; c < nc; ++c) uu[std::size_t(3 * c)] += shift[std::size_t(c)];
     };
     auto shiftedResidual = [&](const std::vector<double>& xx, const std::vector<double>& uu) {
@@ -238,35 +249,9 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     };
     auto interiorPoint = [&](std::vector<double>& xOut) {
         std::fill(shift.begin(), shift.end(), 0.0);
-        std::vector<double> xr(x.size()), ur(x.size());
-        BoxInteriorPointSystem ipSystem;  // one pattern for all the rounds
-        double bestRound = std::numeric_limits<double>::infinity();
-        bool any = false;
-        for (int round = 0; round < kShiftRounds; ++round) {
-            if (!boxInteriorPoint(rows, mu, frictional, diag, ndof, bMax, shiftedVelocities, shiftedResidual, tolAbs,
-                                  rowWork, settings.patternCache, settings.maxWork, work, ipSystem, xr))
-                break;
-            project(xr);
-            velocities(xr, ur);
-            work += rowWork;
-            const double r = lcpResidual(xr, ur);
-            if (r < bestRound) {
-                bestRound = r;
-                xOut = xr;
-                any = true;
-            }
-            if (r <= tolAbs) break;
-            double change = 0.0;
-            for (int c = 0; c < nc; ++c) {
-                if (!frictional[std::size_t(c)]) continue;
-                const double next =
-                    mu[std::size_t(c)] * (std::fabs(ur[std::size_t(3 * c + 1)]) + std::fabs(ur[std::size_t(3 * c + 2)]));
-                change = std::max(change, std::fabs(next - shift[std::size_t(c)]));
-                shift[std::size_t(c)] = next;
-            }
-            if (change <= tolAbs) break;
-        }
-        return any;
+        velocityCalls = 0;
+        return boxInteriorPoint(rows, mu, frictional, diag, ndof, bMax, shiftedVelocities, shiftedResidual, tolAbs,
+                                rowWork, settings.patternCache, settings.maxWork, work, xOut);
     };
     project(x);
     velocities(x, u);
@@ -300,7 +285,7 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     constexpr double kEps0 = 1e-4, kShrink = 0.1, kFloor = 1e-7, kPolishEps = 1e-6;
     constexpr int kPolish = 8, kHalvings = 3;
     // A warm start whose face does not hold gets kWarmTrial iterations of phase 1 before the interior-point restart:
-    // on the toppling 100-cube heap 15 left 102 of 830 islands to the restart (of 6 rounds) instead of 342, -31 %
+    // on the toppling 100-cube heap 15 left 102 of 830 islands to the restart (then of 6 rounds) instead of 342, -31 %
     // instructions (solver-notes.md).
     constexpr double kInteriorGate = 10.0;
     constexpr int kWarmTrial = 15;

@@ -48,12 +48,9 @@ inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
     return sum;
 }
 
-// What boxInteriorPoint keeps across the calls of one resolve (de Saxce's rounds solve the same island with b_n
-// shifted a little):
-//   - the body-space matrix I + J~^T H^-1 J~: a fixed pattern (each contact couples its bodies' degrees of freedom),
-//     assembled and analysed on the first iteration; on every later one each contact's values are added, in the same
-//     order, only where its L D L^T factorisation reads them (readAt: one of each symmetric pair);
-//   - the last call's final point (p, s, y) and its first gap mu0, from which the next call starts.
+// The body-space matrix I + J~^T H^-1 J~ of boxInteriorPoint: a fixed pattern (each contact couples its bodies'
+// degrees of freedom), assembled and analysed on the first iteration; on every later one each contact's values are
+// added, in the same order, only where its L D L^T factorisation reads them (readAt: one of each symmetric pair).
 struct BoxInteriorPointSystem {
     std::vector<Eigen::Triplet<double>> kt;
     std::vector<int> kpos;
@@ -62,24 +59,20 @@ struct BoxInteriorPointSystem {
     ColumnAssembly assembly;
     SymmetricPatternLu factor;
     bool analysed = false;
-    std::vector<double> p, s, y;
-    double mu0 = 0.0;
-    bool hasPoint = false;
 };
 
 // The interior-point answer of the convex relaxation min 1/2 p^T A p + b^T p over |g_r| <= mu p_n (p_n >= 0 where a
 // contact has no friction), Mehrotra's predictor-corrector as core/interior_point_impl.h in 2D; p = (p_n, g1, g2) per
-// contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs. A call after the
-// first of one resolve starts from the last call's point, each slack and multiplier raised to at least kWarmFloor of
-// the cold start's (an interior point again), and measures its gap against the first call's: de Saxce's rounds on the
-// toppling 100-cube heap took about a fifth fewer iterations (the floors measured: docs/solver-notes.md).
+// contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs. `velocities` is
+// called once per iteration, first thing, and may move b (the caller's de Saxce shift; `lcpResidual` then undoes it).
 template <class Velocities, class Residual>
 bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector<double>& mu,
                       const std::vector<std::uint8_t>& frictional, const std::vector<double>& diag, int ndof,
                       double bMax, const Velocities& velocities, const Residual& lcpResidual, double tolAbs,
                       std::uint64_t rowWork, SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
-                      BoxInteriorPointSystem& system, std::vector<double>& xOut) {
+                      std::vector<double>& xOut) {
     const int nc = int(rows.size());
+    BoxInteriorPointSystem system;
     int m = 0;
     for (int c = 0; c < nc; ++c) m += frictional[std::size_t(c)] ? 4 : 1;
     const double v0 = std::max(bMax, 1e-6);
@@ -88,27 +81,13 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
     std::vector<double> s(n4, 0.0), y(n4, 0.0), rp(n4, 0.0), rc(n4, 0.0), ds(n4, 0.0), dy(n4, 0.0);
     std::vector<double> dsAff(n4, 0.0), dyAff(n4, 0.0);
     auto count = [&](int c) { return frictional[std::size_t(c)] ? 4 : 1; };
-    constexpr double kWarmFloor = 0.1;
-    const bool warm = system.hasPoint && system.p.size() == n3;
     for (int c = 0; c < nc; ++c) {
         for (int i = 0, cnt = count(c); i < cnt; ++i) {
             const std::size_t jj = std::size_t(4 * c + i);
             s[jj] = v0 / diag[std::size_t(3 * c)];
             y[jj] = v0;
-            if (warm) {
-                s[jj] = std::max(system.s[jj], kWarmFloor * s[jj]);
-                y[jj] = std::max(system.y[jj], kWarmFloor * y[jj]);
-            }
         }
     }
-    if (warm) p = system.p;
-    auto keepPoint = [&](double firstGap) {
-        system.p = p;
-        system.s = s;
-        system.y = y;
-        system.mu0 = firstGap;
-        system.hasPoint = true;
-    };
     // Row i of C q for contact c: p_n without friction; mu p_n - g1, mu p_n + g1, mu p_n - g2, mu p_n + g2.
     auto cp = [&](const std::vector<double>& q, int c, int i) {
         const double pn = q[std::size_t(3 * c)];
@@ -219,13 +198,12 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
             }
         }
         const double mub = gap / double(m);
-        if (it == 0) mu0 = warm ? system.mu0 : mub;
+        if (it == 0) mu0 = mub;
         if (mub <= kStableGap * mu0) {
             const double raw = lcpResidual(p, uu);
             work += rowWork;
             if (raw <= tolAbs) {
                 xOut = p;
-                keepPoint(mu0);
                 return true;
             }
             const bool onTheWay = frictionless && mub <= 0.5 * lastMub;  // as in 2D (interior_point_impl.h)
@@ -361,7 +339,6 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
             y[jj] += alpha * dy[jj];
         }
     }
-    keepPoint(mu0);
     // The answer with the active constraints taken as equalities.
     for (int c = 0; c < nc; ++c) {
         double pn = std::max(p[std::size_t(3 * c)], 0.0);

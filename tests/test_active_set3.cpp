@@ -68,8 +68,9 @@ Stack3 restingStack(int columns, int layers, double mu) {
 }
 
 // The Stewart–Trinkle LCP's (four directions) scaled complementarity residual of an answer, on the dense assembled
-// matrix: z = (p_n, the positive and negative parts of the friction impulse along t1 and t2, lambda), lambda the
-// smallest slack that makes every direction's row non-negative.
+// matrix: z = (p_n, the positive and negative parts of the friction impulse along t1 and t2, lambda). lambda is the
+// LCP's own unknown, free for each contact; as in the path's certificate it is the smallest slack that makes every
+// direction's row non-negative (the sliding speed) or 0, whichever leaves the smaller residual on the contact's rows.
 double assembledResidual(const std::vector<Body3>& before, const std::vector<Contact3>& contacts, const Resolution& r,
                          const ResolverOptions& options) {
     FrictionLayout layout;
@@ -94,16 +95,23 @@ double assembledResidual(const std::vector<Body3>& before, const std::vector<Con
         for (int j = 0; j < n; ++j) s += lcp.A[std::size_t(i) * std::size_t(n) + std::size_t(j)] * z[std::size_t(j)];
         return s;
     };
-    for (int c = 0; c < nc; ++c) {
-        double lambda = 0.0;
-        for (int m = 0; m < 4; ++m) lambda = std::max(lambda, -product(layout.tangentOffset() + 4 * c + m));
-        z[std::size_t(layout.slackOffset() + c)] = lambda;
-    }
     double res = 0.0, scale = 0.0;
     for (int i = 0; i < n; ++i) {
-        res = std::max(res, std::fabs(std::min(z[std::size_t(i)], product(i))));
+        if (i < layout.tangentOffset()) res = std::max(res, std::fabs(std::min(z[std::size_t(i)], product(i))));
         scale = std::max(scale, std::fabs(lcp.b[std::size_t(i)]));
         for (int j = 0; j < n; ++j) scale = std::max(scale, std::fabs(lcp.A[std::size_t(i) * std::size_t(n) + std::size_t(j)]));
+    }
+    for (int c = 0; c < nc; ++c) {
+        const int t0 = layout.tangentOffset() + 4 * c, sc = layout.slackOffset() + c;
+        auto contactResidual = [&](double lambda) {  // the contact's direction rows and its slack row
+            z[std::size_t(sc)] = lambda;
+            double r = std::fabs(std::min(lambda, product(sc)));
+            for (int m = 0; m < 4; ++m) r = std::max(r, std::fabs(std::min(z[std::size_t(t0 + m)], product(t0 + m))));
+            return r;
+        };
+        double sliding = 0.0;
+        for (int m = 0; m < 4; ++m) sliding = std::max(sliding, -product(t0 + m));  // with lambda = 0
+        res = std::max(res, std::min(contactResidual(sliding), contactResidual(0.0)));
     }
     return res / scale;
 }
