@@ -40,7 +40,7 @@ std::vector<GoldenScene> goldenScenes() {
         {"spheres3d", scenes::spheres3Scene(false), 180},
         {"bunnies3d", scenes::bunnies3Scene(dir + "bunny.obj", 0.05, 2, false), 240},
         // bench_world3d's heap of 100 cubes through its landing: islands of about 100 contacts on the 3D active-set
-        // path (its interior point with de Saxce's rounds, the normalised body-space systems).
+        // path (its interior point following de Saxce's shift, the normalised body-space systems).
         {"box_heap3d_path", scenes::boxPile3Scene(100, true, false), 90},
         // Per-step budgets (core/step_budget.h) below what the landings need, on 2 threads: exact islands, islands
         // approximated by projected Gauss-Seidel, the allocation and the parallel passes all enter the hashes.
