@@ -247,6 +247,31 @@ TEST_CASE("3D active-set path: agrees with Lemke on a landing cube that slides, 
     }
 }
 
+TEST_CASE("3D active-set path: the interior-point restart answers a sliding landing as it stands") {
+    // A cube landing while it slides (the relaxation alone lets its contacts separate at mu times their sliding
+    // speed): the restart follows de Saxce's shift inside its iteration, so its answer is the LCP's without any
+    // iteration of the path (phase 1 and the face refinements get none here).
+    const double cases[][3] = {{1.0, 0.0, 0.5}, {2.0, 1.5, 0.3}, {3.0, 0.0, 0.1}};
+    for (const auto& k : cases) {
+        CAPTURE(k[0]);
+        const Stack3 cube = landingCube(k[0], k[1], k[2]);
+        ResolverOptions options;
+        LemkeSolver solver;
+        std::vector<Body3> lemke = cube.bodies, path = cube.bodies;
+        REQUIRE(resolveWithFriction(lemke, cube.contacts, options, solver).status == LcpStatus::solved);
+        ActiveSetOptions restartOnly;
+        restartOnly.maxIterations = 0;
+        const Resolution r =
+            resolveActiveSet(path, cube.contacts, std::vector<double>(cube.contacts.size() * 4, 0.0), options,
+                             restartOnly);
+        REQUIRE(r.status == LcpStatus::solved);
+        CHECK(r.interiorPoint);
+        CHECK(assembledResidual(cube.bodies, cube.contacts, r, options) <= options.lcp.residualTolerance + 1e-13);
+        CHECK((path[0].velocity - lemke[0].velocity).norm() <= 1e-8);
+        CHECK(path[0].velocity.head<2>().norm() > 0.05);  // it still slides: friction did not stop it
+    }
+}
+
 TEST_CASE("3D active-set path: declines a pyramid of six directions and bad input, leaving the bodies untouched") {
     const Stack3 cube = landingCube(1.0, 0.0, 0.5);
     ResolverOptions options;
