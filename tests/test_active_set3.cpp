@@ -371,9 +371,10 @@ TEST_CASE("the toppling 3D heap's landing islands are answered on the active-set
                             << worst);
     CHECK(pathIslands >= 300);
     CHECK(restarts > 0);
-    // Most landing islands certify from their warm start (its face, then a trial of phase 1): 65 of the 425 take the
-    // restart; when a warm start far off went to the restart at once, 342 of 430 did.
-    CHECK(restarts <= 100);
+    // Most landing islands certify from their warm start (its face, then a trial of phase 1 unless the face leaves it
+    // more than kTrialGate tolerances off): 153 of the 425 take the restart; when every warm start far off went to
+    // the restart at once, 342 of 430 did.
+    CHECK(restarts <= 200);
     CHECK(failed == 0);
     CHECK(worst <= 1e-6);  // m/s, bench_world3d's target (near misses of the path only within kPathAccept3)
 }
