@@ -233,14 +233,13 @@ Resolution resolveActiveSetBox(std::vector<ResolverBody<D>>& ioBodies, const std
     int velocityCalls = 0;
     auto shiftedVelocities = [&](const std::vector<double>& xx, std::vector<double>& uu) {
         velocities(xx, uu);
-        if (++velocityCalls > kShiftFixedIterations) {
-            for (int c = 0; c < nc; ++c) {
-                if (!frictional[std::size_t(c)]) continue;
+        const bool follow = ++velocityCalls > kShiftFixedIterations;
+        for (int c = 0; c < nc; ++c) {
+            if (follow && frictional[std::size_t(c)])
                 shift[std::size_t(c)] = mu[std::size_t(c)] * (std::fabs(uu[std::size_t(3 * c + 1)]) +
                                                               std::fabs(uu[std::size_t(3 * c + 2)]));
-            }
+            uu[std::size_t(3 * c)] += shift[std::size_t(c)];
         }
-        for (int c = 0; c < nc; ++c) uu[std::size_t(3 * c)] += shift[std::size_t(c)];
     };
     auto shiftedResidual = [&](const std::vector<double>& xx, const std::vector<double>& uu) {
         unshifted = uu;

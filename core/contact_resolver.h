@@ -181,8 +181,9 @@ struct ActiveSetOptions {
     /// systems (core/body_space_solve.h). It changes the cost, never the answer or the work units.
     ActiveSetScratch* scratch = nullptr;
     /// When the warm start's face does not hold and its best iterate is far from an answer (more than 10 tolerances),
-    /// or the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
-    /// convex relaxation (docs/solver.md).
+    /// or (2D) the warm start itself is (more than 1000), restart once from the interior-point answer of the problem's
+    /// convex relaxation (docs/solver.md; in 3D a trial of phase 1 comes first unless the face left the island more
+    /// than 1e5 tolerances off).
     bool interiorPoint = true;
     /// With interiorPoint: a cold start (every warm impulse 0) begins with the interior-point answer instead of the
     /// primal-dual iteration from zero impulses. It certifies contact LCPs that the iteration from zero does not

@@ -48,19 +48,6 @@ inline double boxRowDot(const BoxContactRows& q, int r, const double* v) {
     return sum;
 }
 
-// The body-space matrix I + J~^T H^-1 J~ of boxInteriorPoint: a fixed pattern (each contact couples its bodies'
-// degrees of freedom), assembled and analysed on the first iteration; on every later one each contact's values are
-// added, in the same order, only where its L D L^T factorisation reads them (readAt: one of each symmetric pair).
-struct BoxInteriorPointSystem {
-    std::vector<Eigen::Triplet<double>> kt;
-    std::vector<int> kpos;
-    std::vector<int> readAt;  // per contact value (in the order computed): the place in Kb's values the factor reads
-    Eigen::SparseMatrix<double> Kb;
-    ColumnAssembly assembly;
-    SymmetricPatternLu factor;
-    bool analysed = false;
-};
-
 // The interior-point answer of the convex relaxation min 1/2 p^T A p + b^T p over |g_r| <= mu p_n (p_n >= 0 where a
 // contact has no friction), Mehrotra's predictor-corrector as core/interior_point_impl.h in 2D; p = (p_n, g1, g2) per
 // contact. Rounded onto its active constraints unless an iterate answers the LCP within tolAbs. `velocities` is
@@ -72,7 +59,6 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                       std::uint64_t rowWork, SymmetricPatternCache* cache, std::uint64_t maxWork, std::uint64_t& work,
                       std::vector<double>& xOut) {
     const int nc = int(rows.size());
-    BoxInteriorPointSystem system;
     int m = 0;
     for (int c = 0; c < nc; ++c) m += frictional[std::size_t(c)] ? 4 : 1;
     const double v0 = std::max(bMax, 1e-6);
@@ -112,12 +98,16 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         out[1] = H[1] * in[0] + H[3] * in[1] + H[4] * in[2];
         out[2] = H[2] * in[0] + H[4] * in[1] + H[5] * in[2];
     };
-    std::vector<Eigen::Triplet<double>>& kt = system.kt;
-    std::vector<int>& kpos = system.kpos;
-    Eigen::SparseMatrix<double>& Kb = system.Kb;
-    ColumnAssembly& assembly = system.assembly;
-    SymmetricPatternLu& factor = system.factor;
-    bool& analysed = system.analysed;
+    // The body-space matrix I + J~^T H^-1 J~: a fixed pattern (each contact couples its bodies' degrees of freedom),
+    // assembled and analysed on the first iteration; on every later one each contact's values are added, in the same
+    // order, only where its L D L^T factorisation reads them (readPlace: one of each symmetric pair, per contact value
+    // in the order computed).
+    std::vector<Eigen::Triplet<double>> kt;
+    std::vector<int> kpos, readPlace;
+    Eigen::SparseMatrix<double> Kb;
+    ColumnAssembly assembly;
+    SymmetricPatternLu factor;
+    bool analysed = false;
     std::vector<double> moment(std::size_t(std::max(ndof, 1)));
     Eigen::VectorXd rv(ndof), dv(ndof);
     auto direction = [&]() -> bool {
@@ -246,7 +236,7 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
         if (!analysed) kt.clear();
         double* values = analysed ? Kb.valuePtr() : nullptr;
         if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
-        const int* readAt = system.readAt.data();
+        const int* readAt = readPlace.data();
         // Per contact J~^T H^-1 J~ on its sides' degrees of freedom: each value computed once, for entry (i, j) with
         // side sa <= side sb (a <= b within one side). The first iteration puts it at (i, j) and (j, i), so K's values
         // are symmetric to the bit, as its L D L^T factorisation takes them; the later ones add it where the
@@ -302,11 +292,11 @@ bool boxInteriorPoint(const std::vector<BoxContactRows>& rows, const std::vector
                 }
                 // The contact values in kt after the mass diagonal: one entry on the diagonal, else a pair (i, j),
                 // (j, i) of which the factorisation reads one.
-                system.readAt.clear();
+                readPlace.clear();
                 for (std::size_t t = std::size_t(ndof); t < kt.size(); ++t) {
                     const bool pair = kt[t].row() != kt[t].col();
                     const bool second = pair && !factor.readsSymmetric(kt[t].row(), kt[t].col());
-                    system.readAt.push_back(kpos[second ? t + 1 : t]);
+                    readPlace.push_back(kpos[second ? t + 1 : t]);
                     if (pair) ++t;
                 }
             }
