@@ -119,9 +119,13 @@ constexpr int kActiveSetMinContacts = 64;
 /// lands, each step adds a row of contacts to one island of 400-900, and Lemke's warm start repairs the guess in
 /// 50-180 pivots of O(n) each, where the restart takes one interior-point solve (20-25 factorisations of the bodies'
 /// system). Against 1024: the 20-row pyramid's first 120 steps 238 -> 164 ms (300 steps 0.98 -> 0.72 ms/step), the
-/// 40-row's 300 steps 6.3 -> 5.7 ms/step. At 256 the 20-row pyramid's smaller islands cost twice as much on the path;
-/// the five-level card house (136 contacts) keeps Lemke, where it costs half as much (docs/solver-notes.md).
-constexpr int kPathFirstContacts = 384;
+/// 40-row's 300 steps 6.3 -> 5.7 ms/step. Since the interior point ends at its face step (a few factorisations),
+/// 128 rather than 384 (callgrind, scratch driver): the five-level card house (136 contacts) 630 steps 3.63e9 ->
+/// 0.98e9 instructions, Box2D v3's 5 x 5 pyramids (islands of ~150-200 contacts) 200 steps 7.68e9 -> 6.76e9, the
+/// 20-row testbed pyramid's first 120 steps 1.129e9 -> 1.064e9, the 30- and 40-row ones within 1 %; 64 and 96 as 128
+/// but the 20-row pyramid +0.7 %; 192 and 256 send its landing islands of that size back to Lemke (2575-3076 pivots
+/// in its first 120 steps against 454).
+constexpr int kPathFirstContacts = 128;
 /// The same for 3D islands (pyramid of four directions), and the smallest 3D island the path takes at all (2D:
 /// kActiveSetMinContacts): every island of 32 or more. On the toppling 100-cube heap (callgrind, scratch driver)
 /// 32 instead of 64: its landing's first 34 steps -11 % instructions, 200 steps -7 %; 16 instead of 32: +24 % over
