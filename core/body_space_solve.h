@@ -270,19 +270,18 @@ inline bool assembleOrRefill(int n, const std::vector<Eigen::Triplet<double>>& e
     return false;
 }
 
-// What the interior-point restart (core/interior_point_impl.h) keeps between calls: its body-space system, the
-// system's entries and their plan, the factorisation's analysis, and which entries it reads. A call whose first
-// iteration has the last call's entries (contact by contact) refills the values and reuses the rest.
+// What the interior-point restart (core/interior_point_impl.h) keeps between calls: its body-space system (the
+// pattern built from the contacts' degrees of freedom), the factorisation's analysis, and which entries it reads. A
+// call whose contacts couple the same degrees of freedom as the last call's (planKey) refills the values and reuses
+// the rest.
 struct InteriorPointScratch {
-    std::vector<Eigen::Triplet<double>> kt;
-    std::vector<int> kpos, kcontact, readPos, readStart;
-    std::vector<std::uint8_t> kcode, readCode;
+    std::vector<int> readPos, readStart, diagPos;
+    std::vector<std::uint8_t> readCode;
+    std::vector<int> planKey;            // ndof, then per contact its sides' first degrees of freedom and locked mask
+    std::vector<int> nbrStart, nbr, outer, inner;  // the pattern's construction
+    std::size_t entryCount = 0;          // the mass diagonal's and the contacts' entries (work units)
     Eigen::SparseMatrix<double> Kb;
-    ColumnAssembly assembly;
     SymmetricPatternLu factor;
-    int planContacts = -1;  // the contact count of the entries below (-1: none)
-    std::vector<int> planContact;
-    std::vector<std::uint8_t> planCode;
     std::uint64_t refills = 0;  // calls whose system was refilled (a count, for tests)
 };
 

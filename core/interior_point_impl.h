@@ -74,15 +74,12 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // symmetric values reads (those on and above the diagonal in its elimination order) are written; the others stay 0.
     InteriorPointScratch localScratch;
     InteriorPointScratch& sc = scratch ? *scratch : localScratch;
-    std::vector<Eigen::Triplet<double>>& kt = sc.kt;
-    std::vector<int>& kpos = sc.kpos;
-    std::vector<int>& kcontact = sc.kcontact;     // per contact entry of kt (after the mass diagonal): its contact
-    std::vector<std::uint8_t>& kcode = sc.kcode;  // ... and its sides and components (sa << 6 | a << 4 | sb << 2 | bb)
-    // The contact entries the factorisation reads, in kt's order: their place in Kb's values and their sides and
-    // components ((sa * 3 + a) << 4 | (sb * 3 + bb)), and where each contact's begin.
+    // The contact entries the factorisation reads, contact by contact: their place in Kb's values and their sides and
+    // components ((sa * 3 + a) << 4 | (sb * 3 + bb)), and where each contact's begin; the place of each diagonal.
     std::vector<int>& readPos = sc.readPos;
     std::vector<int>& readStart = sc.readStart;
     std::vector<std::uint8_t>& readCode = sc.readCode;
+    std::vector<int>& diagPos = sc.diagPos;
     Eigen::SparseMatrix<double>& Kb = sc.Kb;
     SymmetricPatternLu& kbFactor = sc.factor;
     bool analysed = false;
@@ -233,6 +230,126 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             }
         }
     };
+    // Kb's values for the current hinv: the mass diagonal, then each contact's entries where the factorisation reads
+    // them, in contact order (the sums and their order of an assembly of all the entries; the rest stay 0).
+    auto fillSystem = [&]() {
+        double* values = Kb.valuePtr();
+        std::fill(values, values + Kb.nonZeros(), 0.0);
+        for (int k = 0; k < nb; ++k) {
+            const int d = dof[std::size_t(k)];
+            if (d < 0) continue;
+            const ResolverBody<D>& B = bodies[std::size_t(k)];
+            const double inv[3] = {B.invMass, B.invMass, B.invInertia};
+            for (int a = 0; a < 3; ++a) values[diagPos[std::size_t(d + a)]] += inv[a] > 0.0 ? 1.0 / inv[a] : 1.0;
+        }
+        fillRead(values);
+    };
+    // Kb's pattern, its analysis and the lists above, from the bodies' contact graph: column d + a of a body whose
+    // first degree of freedom is d holds, for the body and each body it shares a contact with (ascending), the rows of
+    // their components that move; a component that does not move has its diagonal only. The pattern of all the
+    // contacts' 3 x 3 blocks J^T H^-1 J and the mass diagonal. A call whose contacts couple the same degrees of
+    // freedom as the last call's (a pile's next landing step with the same contacts) keeps all of it.
+    auto buildSystem = [&]() {
+        std::vector<int>& key = sc.planKey;
+        std::vector<int> now;
+        now.reserve(std::size_t(3 * nc) + 1);
+        now.push_back(ndof);
+        for (int c = 0; c < nc; ++c) {
+            const ContactRows& q = contactRows[std::size_t(c)];
+            now.push_back(q.d[0]);
+            now.push_back(q.d[1]);
+            now.push_back(int(q.lockedMask));
+        }
+        if (now == key && Kb.rows() == ndof) {
+            ++sc.refills;
+            kbFactor.keepAnalysis(cache);
+            return;
+        }
+        key.swap(now);
+        const int slots = ndof / 3;
+        std::vector<int>& nbrStart = sc.nbrStart;
+        std::vector<int>& nbr = sc.nbr;
+        nbrStart.assign(std::size_t(slots) + 1, 0);
+        for (int c = 0; c < nc; ++c) {
+            const ContactRows& q = contactRows[std::size_t(c)];
+            if (q.d[0] >= 0 && q.d[1] >= 0 && q.d[0] != q.d[1]) {
+                ++nbrStart[std::size_t(q.d[0] / 3) + 1];
+                ++nbrStart[std::size_t(q.d[1] / 3) + 1];
+            }
+        }
+        for (int k = 0; k < slots; ++k) nbrStart[std::size_t(k) + 1] += nbrStart[std::size_t(k)] + 1;  // + itself
+        nbr.assign(std::size_t(nbrStart[std::size_t(slots)]), 0);
+        std::vector<int> fillAt(nbrStart.begin(), nbrStart.end() - 1);
+        for (int k = 0; k < slots; ++k) nbr[std::size_t(fillAt[std::size_t(k)]++)] = 3 * k;
+        for (int c = 0; c < nc; ++c) {
+            const ContactRows& q = contactRows[std::size_t(c)];
+            if (q.d[0] >= 0 && q.d[1] >= 0 && q.d[0] != q.d[1]) {
+                nbr[std::size_t(fillAt[std::size_t(q.d[0] / 3)]++)] = q.d[1];
+                nbr[std::size_t(fillAt[std::size_t(q.d[1] / 3)]++)] = q.d[0];
+            }
+        }
+        std::vector<int>& outer = sc.outer;
+        std::vector<int>& inner = sc.inner;
+        outer.assign(std::size_t(ndof) + 1, 0);
+        inner.clear();
+        for (int k = 0; k < slots; ++k) {
+            int* first = nbr.data() + nbrStart[std::size_t(k)];
+            int* last = nbr.data() + nbrStart[std::size_t(k) + 1];
+            std::sort(first, last);
+            last = std::unique(first, last);
+            for (int a = 0; a < 3; ++a) {
+                const int col = 3 * k + a;
+                if (locked[std::size_t(col)]) {
+                    inner.push_back(col);
+                } else {
+                    for (const int* e = first; e != last; ++e)
+                        for (int b = 0; b < 3; ++b)
+                            if (!locked[std::size_t(*e + b)]) inner.push_back(*e + b);
+                }
+                outer[std::size_t(col) + 1] = int(inner.size());
+            }
+        }
+        Kb.resize(ndof, ndof);
+        Kb.resizeNonZeros(Eigen::Index(inner.size()));
+        std::copy(outer.begin(), outer.end(), Kb.outerIndexPtr());
+        std::copy(inner.begin(), inner.end(), Kb.innerIndexPtr());
+        kbFactor.analyzePattern(Kb, cache);
+        auto place = [&](int row, int col) {
+            const int* rows = Kb.innerIndexPtr();
+            return int(std::lower_bound(rows + Kb.outerIndexPtr()[col], rows + Kb.outerIndexPtr()[col + 1], row) -
+                       rows);
+        };
+        diagPos.resize(std::size_t(ndof));
+        for (int i = 0; i < ndof; ++i) diagPos[std::size_t(i)] = place(i, i);
+        readPos.clear();
+        readCode.clear();
+        readStart.assign(std::size_t(nc) + 1, 0);
+        std::size_t entries = std::size_t(ndof);
+        for (int c = 0; c < nc; ++c) {
+            const ContactRows& q = contactRows[std::size_t(c)];
+            for (int sa = 0; sa < 2; ++sa) {
+                const int da = q.d[sa];
+                if (da < 0) continue;
+                for (int sb = 0; sb < 2; ++sb) {
+                    const int db = q.d[sb];
+                    if (db < 0) continue;
+                    for (int a = 0; a < 3; ++a) {
+                        if (locked[std::size_t(da + a)]) continue;
+                        for (int bb = 0; bb < 3; ++bb) {
+                            if (locked[std::size_t(db + bb)]) continue;
+                            ++entries;
+                            if (!kbFactor.readsSymmetric(da + a, db + bb)) continue;
+                            readPos.push_back(place(da + a, db + bb));
+                            readCode.push_back(std::uint8_t((sa * 3 + a) << 4 | (sb * 3 + bb)));
+                            ++readStart[std::size_t(c) + 1];
+                        }
+                    }
+                }
+            }
+        }
+        for (int c = 0; c < nc; ++c) readStart[std::size_t(c) + 1] += readStart[std::size_t(c)];
+        sc.entryCount = entries;
+    };
     double mu0 = 0.0;
     constexpr int kInteriorIterations = 40;
     constexpr double kStableGap = 1e-8;
@@ -293,22 +410,12 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 ph[1] = sgn * mu * along;
             }
         }
-        double* values = Kb.valuePtr();
-        std::fill(values, values + Kb.nonZeros(), 0.0);
-        std::size_t t = 0;
-        for (int k = 0; k < nb; ++k) {
-            const int d = dof[std::size_t(k)];
-            if (d < 0) continue;
-            const ResolverBody<D>& B = bodies[std::size_t(k)];
-            const double inv[3] = {B.invMass, B.invMass, B.invInertia};
-            for (int a = 0; a < 3; ++a) values[kpos[t++]] += inv[a] > 0.0 ? 1.0 / inv[a] : 1.0;
-        }
         hinv.swap(faceH);
-        fillRead(values);
+        fillSystem();
         hinv.swap(faceH);
         if (!kbFactor.factorize(Kb, true)) return false;
         work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) +
-                2 * std::uint64_t(kt.size());
+                2 * std::uint64_t(sc.entryCount);
         Eigen::VectorXd rv(ndof);
         std::vector<double> firstAnswer;
         pf = pHat;
@@ -443,105 +550,13 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 H[1] = H[2] = 0.0;
             }
         }
-        // Entries in a fixed order: the first iteration assembles the pattern, the later ones add the values
-        // where the first put them (the same sums in the same order as assembleColumns).
-        if (!analysed) {
-            kt.clear();
-            kcontact.clear();
-            kcode.clear();
-        }
-        double* values = analysed ? Kb.valuePtr() : nullptr;
-        if (analysed) std::fill(values, values + Kb.nonZeros(), 0.0);
-        std::size_t entry = 0;
-        auto put = [&](int r, int col, double v) {
-            if (!analysed)
-                kt.emplace_back(r, col, v);
-            else
-                values[kpos[entry]] += v;
-            ++entry;
-        };
-        for (int k = 0; k < nb; ++k) {
-            const int d = dof[std::size_t(k)];
-            if (d < 0) continue;
-            const ResolverBody<D>& B = bodies[std::size_t(k)];
-            const double inv[3] = {B.invMass, B.invMass, B.invInertia};
-            for (int a = 0; a < 3; ++a) put(d + a, d + a, inv[a] > 0.0 ? 1.0 / inv[a] : 1.0);
-        }
-        if (!analysed) {
-            for (int c = 0; c < nc; ++c) {
-                const detail::JacobianRow<D>& rn = rowAt(c, 0);
-                const detail::JacobianRow<D>& rt = rowAt(c, 1);
-                const double* H = &hinv[std::size_t(3 * c)];
-                for (int sa = 0; sa < 2; ++sa) {
-                    const int da = dof[std::size_t(rn.body[sa])];
-                    if (da < 0) continue;
-                    const double na[3] = {rn.lin[sa].x, rn.lin[sa].y, rn.ang[sa]};
-                    const double ta[3] = {rt.lin[sa].x, rt.lin[sa].y, rt.ang[sa]};
-                    for (int sb = 0; sb < 2; ++sb) {
-                        const int db = dof[std::size_t(rn.body[sb])];
-                        if (db < 0) continue;
-                        const double nbv[3] = {rn.lin[sb].x, rn.lin[sb].y, rn.ang[sb]};
-                        const double tbv[3] = {rt.lin[sb].x, rt.lin[sb].y, rt.ang[sb]};
-                        for (int a = 0; a < 3; ++a) {
-                            if (locked[std::size_t(da + a)]) continue;
-                            for (int bb = 0; bb < 3; ++bb) {
-                                if (locked[std::size_t(db + bb)]) continue;
-                                const double v = na[a] * (H[0] * nbv[bb] + H[1] * tbv[bb]) +
-                                                 ta[a] * (H[1] * nbv[bb] + H[2] * tbv[bb]);
-                                kcontact.push_back(c);
-                                kcode.push_back(std::uint8_t(sa << 6 | a << 4 | sb << 2 | bb));
-                                put(da + a, db + bb, v);
-                            }
-                        }
-                    }
-                }
-            }
-        } else {
-            fillRead(values);
-            entry = kt.size();  // every entry counts in the work, read or not
-        }
         if (ndof > 0) {
-            if (!analysed) {
-                analysed = true;
-                // The same entries as the last solve's first iteration (a pile's next landing step with the same
-                // contacts): Kb, its analysis and the lists below are this system's; only the values are new.
-                const bool same = sc.planContacts == nc && sc.planContact == kcontact && sc.planCode == kcode &&
-                                  refillColumns(ndof, kt, Kb, sc.assembly);
-                if (same) {
-                    ++sc.refills;
-                    kbFactor.keepAnalysis(cache);
-                }
-                if (!same) {
-                    sc.planContacts = -1;
-                    assembleColumns<true>(ndof, kt, Kb, sc.assembly);
-                    kbFactor.analyzePattern(Kb, cache);
-                    kpos.resize(kt.size());
-                    readPos.clear();
-                    readCode.clear();
-                    const std::size_t bodyEntries = kt.size() - kcode.size();  // the mass diagonal comes first
-                    readStart.assign(std::size_t(nc) + 1, 0);
-                    for (std::size_t t = 0; t < kt.size(); ++t) {
-                        const int col = kt[t].col();
-                        const int* rows = Kb.innerIndexPtr();
-                        const int* at = std::lower_bound(rows + Kb.outerIndexPtr()[col],
-                                                         rows + Kb.outerIndexPtr()[col + 1], kt[t].row());
-                        kpos[t] = int(at - rows);
-                        if (t >= bodyEntries && kbFactor.readsSymmetric(kt[t].row(), kt[t].col())) {
-                            readPos.push_back(kpos[t]);
-                            const unsigned code = kcode[t - bodyEntries];  // as (sa * 3 + a) << 4 | (sb * 3 + bb)
-                            readCode.push_back(std::uint8_t(((code >> 6) * 3 + ((code >> 4) & 3u)) << 4 |
-                                                            (((code >> 2) & 3u) * 3 + (code & 3u))));
-                            ++readStart[std::size_t(kcontact[t - bodyEntries]) + 1];
-                        }
-                    }
-                    for (int c = 0; c < nc; ++c) readStart[std::size_t(c) + 1] += readStart[std::size_t(c)];
-                    sc.planContact = kcontact;
-                    sc.planCode = kcode;
-                    sc.planContacts = nc;
-                }
-            }
+            if (!analysed) buildSystem();
+            analysed = true;
+            fillSystem();
             if (!kbFactor.factorize(Kb, true)) return false;
-            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * std::uint64_t(entry);
+            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) +
+                    2 * std::uint64_t(sc.entryCount);  // every entry counts in the work, read or not
         }
         // Predictor (affine scaling).
         for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];
