@@ -10,7 +10,9 @@
 // (the bodies' contact graph) does not change between iterations. The relaxation differs from the
 // Stewart–Trinkle problem only where contacts slide (it lets them separate at mu |u_t|), so its answer, with
 // the constraints whose slack is small against their multiplier taken as active, is a start the active-set
-// iteration finishes from (docs/solver.md, "Landing piles").
+// iteration finishes from (docs/solver.md, "Landing piles"). Once the gap is small, a face step (below) solves on the
+// face of the iterate's active constraints with the same system's pattern, and usually ends the iteration with an
+// answer that passes the island LCP's certificate.
 #pragma once
 
 #include <Eigen/SparseCore>
