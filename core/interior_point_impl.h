@@ -378,7 +378,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // degenerate contacts (no load, no approach) keep impulse and velocity both near the gap's square root, so the
     // gap would have to fall several more orders (measured on a landing 20-row pyramid: 157 iterations and 38 face
     // steps where the iteration alone took 282); the face step ends the iteration there.
-    std::vector<double> faceH(std::size_t(3 * nc), 0.0), pHat(std::size_t(2 * nc), 0.0);
+    std::vector<double> faceH(std::size_t(3 * nc), 0.0);
     std::vector<double> pf(std::size_t(2 * nc), 0.0), uf(std::size_t(2 * nc), 0.0);
     auto faceStep = [&]() -> bool {
         if (!analysed || ndof == 0) return false;
@@ -387,7 +387,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             const double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
             const double w = 1.0 / (kFaceEps * diag[std::size_t(2 * c)]);
             double* E = &faceH[std::size_t(3 * c)];
-            double* ph = &pHat[std::size_t(2 * c)];
+            double* ph = &pf[std::size_t(2 * c)];  // the iterate projected onto the face
             E[0] = E[1] = E[2] = 0.0;
             ph[0] = ph[1] = 0.0;
             if (!two[std::size_t(c)]) {
@@ -420,7 +420,6 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 2 * std::uint64_t(sc.entryCount);
         Eigen::VectorXd rv(ndof);
         std::vector<double> firstAnswer;
-        pf = pHat;
         velocities(pf, uf);
         work += rowWork;
         for (int solve = 0; solve < kFaceSolves; ++solve) {
@@ -447,7 +446,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             const double r = lcpResidual(pf, uf);
             // The first step's answer, when it certifies, gets one more step (its velocities are at the
             // tolerance, the next one's usually 100x below it), and stays the answer if that one does not certify.
-            if (r <= tolAbs && (solve > 0 || kFaceSolves == 1)) return true;
+            if (r <= tolAbs && solve > 0) return true;
             if (r <= tolAbs) {
                 firstAnswer = pf;
                 continue;
