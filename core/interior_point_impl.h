@@ -10,9 +10,10 @@
 // (the bodies' contact graph) does not change between iterations. The relaxation differs from the
 // Stewart–Trinkle problem only where contacts slide (it lets them separate at mu |u_t|), so its answer, with
 // the constraints whose slack is small against their multiplier taken as active, is a start the active-set
-// iteration finishes from (docs/solver.md, "Landing piles"). Once the gap is small, a face step (below) solves on the
-// face of the iterate's active constraints with the same system's pattern, and usually ends the iteration with an
-// answer that passes the island LCP's certificate.
+// iteration finishes from (docs/solver.md, "Landing piles"). Once the gap is small, a face step (below) solves the
+// LCP's equations on the face of the iterate's active constraints with the same system's pattern, and usually ends
+// the iteration with an answer that passes the island LCP's certificate. Where contacts slide and the first answer
+// does not certify, further rounds solve the relaxation again with de Saxce's shift (below).
 #pragma once
 
 #include <Eigen/SparseCore>
@@ -52,6 +53,10 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         two[std::size_t(c)] = friction[std::size_t(c)] > 0.0 && diag[std::size_t(2 * c + 1)] > 0.0 ? 1 : 0;
         m += two[std::size_t(c)] ? 2 : 1;
     }
+    const bool frictionless = m == nc;  // no contact has a friction row
+    // Per contact, mu |u_t| of the last round's answer, added to its normal velocity in the rounds after the first
+    // (below); 0 in the first.
+    std::vector<double> shift(std::size_t(nc), 0.0);
     const double v0 = std::max(bMax, 1e-6);
     std::vector<double> p(std::size_t(2 * nc), 0.0), s(std::size_t(2 * nc), 0.0), y(std::size_t(2 * nc), 0.0);
     std::vector<double> uu(std::size_t(2 * nc)), rd(std::size_t(2 * nc)), rp(std::size_t(2 * nc), 0.0);
@@ -232,10 +237,8 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             }
         }
     };
-    // Kb's values for the current hinv: the mass diagonal, then each contact's entries where the factorisation reads
-    // them, in contact order (the sums and their order of an assembly of all the entries; the rest stay 0).
-    auto fillSystem = [&]() {
-        double* values = Kb.valuePtr();
+    // The mass diagonal of Kb's values (the rest 0).
+    auto fillMass = [&](double* values) {
         std::fill(values, values + Kb.nonZeros(), 0.0);
         for (int k = 0; k < nb; ++k) {
             const int d = dof[std::size_t(k)];
@@ -244,6 +247,46 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             const double inv[3] = {B.invMass, B.invMass, B.invInertia};
             for (int a = 0; a < 3; ++a) values[diagPos[std::size_t(d + a)]] += inv[a] > 0.0 ? 1.0 / inv[a] : 1.0;
         }
+    };
+    // Kb = M + J^T E J for per-contact 2 x 2 blocks E (row-major, stride 4) that need not be symmetric: every entry
+    // of the pattern, for an LU factorisation.
+    auto fillFull = [&](const std::vector<double>& E4) {
+        double* values = Kb.valuePtr();
+        fillMass(values);
+        const int* rows = Kb.innerIndexPtr();
+        const int* cols = Kb.outerIndexPtr();
+        for (int c = 0; c < nc; ++c) {
+            const double* E = &E4[std::size_t(4 * c)];
+            if (E[0] == 0.0 && E[1] == 0.0 && E[2] == 0.0 && E[3] == 0.0) continue;
+            const ContactRows& q = contactRows[std::size_t(c)];
+            for (int sb = 0; sb < 2; ++sb) {
+                const int db = q.d[sb];
+                if (db < 0) continue;
+                for (int bb = 0; bb < 3; ++bb) {
+                    if (locked[std::size_t(db + bb)]) continue;
+                    const double en = E[0] * q.n[sb][bb] + E[1] * q.t[sb][bb];
+                    const double et = E[2] * q.n[sb][bb] + E[3] * q.t[sb][bb];
+                    const int col = db + bb;
+                    for (int sa = 0; sa < 2; ++sa) {
+                        const int da = q.d[sa];
+                        if (da < 0) continue;
+                        const int* first = rows + cols[col];
+                        const int* last = rows + cols[col + 1];
+                        for (int a = 0; a < 3; ++a) {
+                            if (locked[std::size_t(da + a)]) continue;
+                            const int at = int(std::lower_bound(first, last, da + a) - rows);
+                            values[at] += q.n[sa][a] * en + q.t[sa][a] * et;
+                        }
+                    }
+                }
+            }
+        }
+    };
+    // Kb's values for the current hinv: the mass diagonal, then each contact's entries where the factorisation reads
+    // them, in contact order (the sums and their order of an assembly of all the entries; the rest stay 0).
+    auto fillSystem = [&]() {
+        double* values = Kb.valuePtr();
+        fillMass(values);
         fillRead(values);
     };
     // Kb's pattern, its analysis and the lists above, from the bodies' contact graph: column d + a of a body whose
@@ -378,17 +421,18 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // degenerate contacts (no load, no approach) keep impulse and velocity both near the gap's square root, so the
     // gap would have to fall several more orders (measured on a landing 20-row pyramid: 157 iterations and 38 face
     // steps where the iteration alone took 282); the face step ends the iteration there.
-    std::vector<double> faceH(std::size_t(3 * nc), 0.0);
+    std::vector<double> faceH(std::size_t(3 * nc), 0.0), faceE(std::size_t(4 * nc), 0.0);
     std::vector<double> pf(std::size_t(2 * nc), 0.0), uf(std::size_t(2 * nc), 0.0);
     auto faceStep = [&]() -> bool {
         if (!analysed || ndof == 0) return false;
+        bool slips = false;
         for (int c = 0; c < nc; ++c) {
             const std::uint8_t act = activeOf(c);
             const double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
             const double w = 1.0 / (kFaceEps * diag[std::size_t(2 * c)]);
-            double* E = &faceH[std::size_t(3 * c)];
+            double* E = &faceE[std::size_t(4 * c)];
             double* ph = &pf[std::size_t(2 * c)];  // the iterate projected onto the face
-            E[0] = E[1] = E[2] = 0.0;
+            E[0] = E[1] = E[2] = E[3] = 0.0;
             ph[0] = ph[1] = 0.0;
             if (!two[std::size_t(c)]) {
                 if (!(act & 1)) {
@@ -396,26 +440,37 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                     ph[0] = pn;
                 }
             } else if (act == 0) {
-                E[0] = E[2] = w;
+                E[0] = E[3] = w;
                 ph[0] = pn;
                 ph[1] = pt;
             } else if (act != 3) {
-                // One edge of the cone: p_t = sgn mu p_n, direction (1, sgn mu).
+                // One edge of the cone, p = (1, sgn mu) q: the LCP's slip face, whose equation is u_n = 0 (the
+                // relaxation's would be u_n + sgn mu u_t = 0). dp = (1, sgn mu) dq with dq = -(u_n + J_n dv) / (eps G_nn).
                 const double mu = friction[std::size_t(c)];
                 const double sgn = act == 1 ? 1.0 : -1.0;
-                const double k = 1.0 / (1.0 + mu * mu);
-                E[0] = w * k;
-                E[1] = w * k * sgn * mu;
-                E[2] = w * k * mu * mu;
-                const double along = (pn + sgn * mu * pt) * k;
-                ph[0] = along;
-                ph[1] = sgn * mu * along;
+                E[0] = w;
+                E[2] = w * sgn * mu;
+                ph[0] = pn;
+                ph[1] = sgn * mu * pn;
+                slips = true;
             }
         }
-        hinv.swap(faceH);
-        fillSystem();
-        hinv.swap(faceH);
-        if (!kbFactor.factorize(Kb, true)) return false;
+        if (!slips) {
+            for (int c = 0; c < nc; ++c) {
+                const double* E = &faceE[std::size_t(4 * c)];
+                double* H = &faceH[std::size_t(3 * c)];
+                H[0] = E[0];
+                H[1] = E[1];
+                H[2] = E[3];
+            }
+            hinv.swap(faceH);
+            fillSystem();
+            hinv.swap(faceH);
+            if (!kbFactor.factorize(Kb, true)) return false;
+        } else {
+            fillFull(faceE);  // not symmetric
+            if (!kbFactor.factorize(Kb, false)) return false;
+        }
         work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) +
                 2 * std::uint64_t(sc.entryCount);
         Eigen::VectorXd rv(ndof);
@@ -425,21 +480,21 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         for (int solve = 0; solve < kFaceSolves; ++solve) {
             std::fill(moment.begin(), moment.end(), 0.0);
             for (int c = 0; c < nc; ++c) {
-                const double* E = &faceH[std::size_t(3 * c)];
-                if (E[0] == 0.0 && E[2] == 0.0) continue;
+                const double* E = &faceE[std::size_t(4 * c)];
+                if (E[0] == 0.0 && E[3] == 0.0) continue;
                 const double un = uf[std::size_t(2 * c)], ut = uf[std::size_t(2 * c + 1)];
-                addRows(c, -(E[0] * un + E[1] * ut), -(E[1] * un + E[2] * ut));
+                addRows(c, -(E[0] * un + E[1] * ut), -(E[2] * un + E[3] * ut));
             }
             for (int i = 0; i < ndof; ++i) rv[i] = moment[std::size_t(i)];
             const Eigen::VectorXd dv = kbFactor.solve(rv);
             work += 4 * std::uint64_t(kbFactor.factorNonZeros()) + 2 * rowWork;
             for (int c = 0; c < nc; ++c) {
-                const double* E = &faceH[std::size_t(3 * c)];
-                if (E[0] == 0.0 && E[2] == 0.0) continue;
+                const double* E = &faceE[std::size_t(4 * c)];
+                if (E[0] == 0.0 && E[3] == 0.0) continue;
                 const double jn = uf[std::size_t(2 * c)] + rowDot(c, 0, dv);
                 const double jt = uf[std::size_t(2 * c + 1)] + rowDot(c, 1, dv);
                 pf[std::size_t(2 * c)] -= E[0] * jn + E[1] * jt;
-                pf[std::size_t(2 * c + 1)] -= E[1] * jn + E[2] * jt;
+                pf[std::size_t(2 * c + 1)] -= E[2] * jn + E[3] * jt;
             }
             for (double v : pf) if (!std::isfinite(v)) return false;
             velocities(pf, uf);
@@ -462,150 +517,222 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         return false;
     };
     std::vector<std::uint8_t> cls(static_cast<std::size_t>(nc), 0), prevCls(static_cast<std::size_t>(nc), 255);
-    const bool frictionless = m == nc;  // no contact has a friction row
     int faceWait = 0, faceSkip = 0, faceTries = 0;
     double lastMub = std::numeric_limits<double>::infinity();
-    for (int it = 0; it < kInteriorIterations; ++it) {
-        if (maxWork > 0 && work >= maxWork) return false;
-        velocities(p, uu);
-        work += rowWork;
-        double gap = 0.0, rdMax = 0.0, rpMax = 0.0;
+    std::vector<double> uTrue(std::size_t(2 * nc));
+    // The answer of the iteration, rounded onto its active constraints (a sliding contact on its edge of the cone).
+    auto rounded = [&](std::vector<double>& out) {
         for (int c = 0; c < nc; ++c) {
-            const double ys0 = y[std::size_t(2 * c)], ys1 = y[std::size_t(2 * c + 1)];
-            if (two[std::size_t(c)]) {
-                rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - friction[std::size_t(c)] * (ys0 + ys1);
-                rd[std::size_t(2 * c + 1)] = uu[std::size_t(2 * c + 1)] + ys0 - ys1;
-            } else {
-                rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - ys0;
-                rd[std::size_t(2 * c + 1)] = 0.0;  // p_t stays 0 (H^-1 has no tangent part)
+            double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
+            const std::uint8_t act = activeOf(c);
+            const bool a0 = (act & 1) != 0, a1 = (act & 2) != 0;
+            const double mu = friction[std::size_t(c)];
+            if (!two[std::size_t(c)]) {
+                if (a0) pn = 0.0;
+                pt = 0.0;
+            } else if (a0 && a1) {
+                pn = pt = 0.0;
+            } else if (a0) {
+                pt = mu * std::max(pn, 0.0);
+            } else if (a1) {
+                pt = -mu * std::max(pn, 0.0);
             }
-            rdMax = std::max({rdMax, std::fabs(rd[std::size_t(2 * c)]), std::fabs(rd[std::size_t(2 * c + 1)])});
-            const int cnt = two[std::size_t(c)] ? 2 : 1;
-            for (int i = 0; i < cnt; ++i) {
-                const std::size_t j = std::size_t(2 * c + i);
-                rp[j] = cp(p, c, i) - s[j];
-                rpMax = std::max(rpMax, std::fabs(rp[j]) * diag[std::size_t(2 * c)]);
-                gap += s[j] * y[j];
-            }
+            out[std::size_t(2 * c)] = pn;
+            out[std::size_t(2 * c + 1)] = pt;
         }
-        const double mub = gap / double(m);
-        if (it == 0) mu0 = mub;
-        // The face step, once the gap is small; after each attempt that does not certify, the next waits twice as
-        // many iterations as the last wait plus one (1, 3 apart). On the landing 20-row pyramid no solve needed a
-        // fourth; a cap of two costs it 6 % more instructions. The Box2D-manifold pyramid's frictionless LCP, whose
-        // float-rounded rows are nearly dependent, certifies at no face: its three cost 10 % (22 iterations).
-        if (it > 0 && mub <= kFaceGap * mu0 && faceTries < kFaceTries) {
-            if (faceWait == 0) {
-                ++faceTries;
-                if (faceStep()) {
-                    xOut = pf;
+    };
+    // Rounds: the relaxation's answer lets a sliding contact separate at mu |u_t| where the island's LCP keeps it
+    // touching (u_n = 0). When the first round's answer does not certify and some pushing contact slides by more
+    // than the tolerance, the next rounds solve the relaxation again from the start with mu |u_t| of the last
+    // round's answer added to each contact's normal velocity (de Saxce's fixed point: a relaxation whose answer
+    // keeps that slip is the LCP's). The face step then gets the LCP's faces. On a landing pile of circles the LCP's
+    // residual of the rounds' answers falls by about half a round; the best rounded answer (smallest LCP residual
+    // of its iterate) goes to the active-set iteration.
+    constexpr int kRounds = 4;
+    bool haveBest = false;  // xOut holds a rounded answer of an earlier round
+    double bestRaw = std::numeric_limits<double>::infinity();
+    for (int round = 0; round < kRounds; ++round) {
+        if (round > 0) {
+            std::fill(p.begin(), p.end(), 0.0);
+            for (int c = 0; c < nc; ++c) {
+                const int cnt = two[std::size_t(c)] ? 2 : 1;
+                for (int i = 0; i < cnt; ++i) {
+                    s[std::size_t(2 * c + i)] = v0 / diag[std::size_t(2 * c)];
+                    y[std::size_t(2 * c + i)] = v0;
+                }
+            }
+            faceWait = faceSkip = faceTries = 0;
+            lastMub = std::numeric_limits<double>::infinity();
+            std::fill(prevCls.begin(), prevCls.end(), std::uint8_t(255));
+        }
+        bool broke = false;  // the iteration stopped early (the failures below): the round gives no answer
+        for (int it = 0; it < kInteriorIterations; ++it) {
+            if (maxWork > 0 && work >= maxWork) return haveBest;
+            velocities(p, uu);
+            work += rowWork;
+            if (round > 0) {
+                uTrue = uu;
+                for (int c = 0; c < nc; ++c) uu[std::size_t(2 * c)] += shift[std::size_t(c)];
+            }
+            double gap = 0.0, rdMax = 0.0, rpMax = 0.0;
+            for (int c = 0; c < nc; ++c) {
+                const double ys0 = y[std::size_t(2 * c)], ys1 = y[std::size_t(2 * c + 1)];
+                if (two[std::size_t(c)]) {
+                    rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - friction[std::size_t(c)] * (ys0 + ys1);
+                    rd[std::size_t(2 * c + 1)] = uu[std::size_t(2 * c + 1)] + ys0 - ys1;
+                } else {
+                    rd[std::size_t(2 * c)] = uu[std::size_t(2 * c)] - ys0;
+                    rd[std::size_t(2 * c + 1)] = 0.0;  // p_t stays 0 (H^-1 has no tangent part)
+                }
+                rdMax = std::max({rdMax, std::fabs(rd[std::size_t(2 * c)]), std::fabs(rd[std::size_t(2 * c + 1)])});
+                const int cnt = two[std::size_t(c)] ? 2 : 1;
+                for (int i = 0; i < cnt; ++i) {
+                    const std::size_t j = std::size_t(2 * c + i);
+                    rp[j] = cp(p, c, i) - s[j];
+                    rpMax = std::max(rpMax, std::fabs(rp[j]) * diag[std::size_t(2 * c)]);
+                    gap += s[j] * y[j];
+                }
+            }
+            const double mub = gap / double(m);
+            if (it == 0) mu0 = mub;
+            // The face step, once the gap is small; after each attempt that does not certify, the next waits twice
+            // as many iterations as the last wait plus one (1, 3 apart). On the landing 20-row pyramid no solve
+            // needed a fourth; a cap of two costs it 6 % more instructions. The Box2D-manifold pyramid's frictionless
+            // LCP, whose float-rounded rows are nearly dependent, certifies at no face: its three cost 10 % (22
+            // iterations).
+            if (it > 0 && mub <= kFaceGap * mu0 && faceTries < kFaceTries) {
+                if (faceWait == 0) {
+                    ++faceTries;
+                    if (faceStep()) {
+                        xOut = pf;
+                        return true;
+                    }
+                    faceWait = faceSkip;
+                    faceSkip = 2 * faceSkip + 1;
+                } else {
+                    --faceWait;
+                }
+            }
+            if (mub <= kStableGap * mu0) {
+                // Once the gap is small, an iterate that answers the LCP ends the iteration as it stands.
+                const double raw = lcpResidual(p, round > 0 ? uTrue : uu);
+                work += rowWork;
+                if (raw <= tolAbs) {
+                    xOut = p;
                     return true;
                 }
-                faceWait = faceSkip;
-                faceSkip = 2 * faceSkip + 1;
-            } else {
-                --faceWait;
+                // Without friction the relaxation is the LCP itself, and its iterate certifies once every
+                // contact's impulse or velocity is within the tolerance: a few iterations after the gap is at the
+                // data's precision (a contact without load or approach keeps both at about the square root of the
+                // gap). The rounding below can class a slowly separating contact as pushing before then, and the
+                // face it gives does not hold; so such an island goes on while its gap still falls at least twofold
+                // an iteration.
+                const bool onTheWay = frictionless && mub <= 0.5 * lastMub;
+                lastMub = mub;
+                if (!onTheWay) {
+                    // Stop when the active constraints are those of the last iteration (the active-set iteration
+                    // finishes from there), or once converged to the data's precision.
+                    for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
+                    if (cls == prevCls) break;
+                    prevCls = cls;
+                    if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) break;
+                }
+            }
+            // H^-1 per contact from e = s / y (capped: a contact inside its cone becomes a stiff constraint).
+            for (int c = 0; c < nc; ++c) {
+                const double gn = diag[std::size_t(2 * c)];
+                const int cnt = two[std::size_t(c)] ? 2 : 1;
+                for (int i = 0; i < cnt; ++i) {
+                    const std::size_t j = std::size_t(2 * c + i);
+                    e[j] = std::min(s[j] / y[j], 1e12 / gn);
+                }
+                double* H = &hinv[std::size_t(3 * c)];
+                if (two[std::size_t(c)]) {
+                    const double mu = friction[std::size_t(c)];
+                    const double e0 = e[std::size_t(2 * c)], e1 = e[std::size_t(2 * c + 1)];
+                    H[0] = (e0 + e1) / (4.0 * mu * mu);
+                    H[1] = (e1 - e0) / (4.0 * mu);
+                    H[2] = (e0 + e1) / 4.0;
+                } else {
+                    H[0] = e[std::size_t(2 * c)];
+                    H[1] = H[2] = 0.0;
+                }
+            }
+            if (ndof > 0) {
+                if (!analysed) buildSystem();
+                analysed = true;
+                fillSystem();
+                if (!kbFactor.factorize(Kb, true)) {
+                    broke = true;
+                    break;
+                }
+                work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) +
+                        2 * std::uint64_t(sc.entryCount);  // every entry counts in the work, read or not
+            }
+            // Predictor (affine scaling).
+            for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];
+            if (!direction()) {
+                broke = true;
+                break;
+            }
+            const double ap = maxStep(s, ds), ad = maxStep(y, dy);
+            const double aAff = std::min(ap, ad);
+            double gapAff = 0.0;
+            for (std::size_t j = 0; j < s.size(); ++j) gapAff += (s[j] + aAff * ds[j]) * (y[j] + aAff * dy[j]);
+            const double ratio = gapAff / double(m) / mub;
+            const double sigma = ratio * ratio * ratio;
+            dsAff = ds;
+            dyAff = dy;
+            // Corrector.
+            for (int c = 0; c < nc; ++c) {
+                const int cnt = two[std::size_t(c)] ? 2 : 1;
+                for (int i = 0; i < cnt; ++i) {
+                    const std::size_t j = std::size_t(2 * c + i);
+                    rc[j] = s[j] * y[j] + dsAff[j] * dyAff[j] - sigma * mub;
+                }
+            }
+            if (!direction()) {
+                broke = true;
+                break;
+            }
+            const double alpha = std::min(1.0, 0.99 * std::min(maxStep(s, ds), maxStep(y, dy)));
+            for (std::size_t j = 0; j < p.size(); ++j) {
+                p[j] += alpha * dp[j];
+                s[j] += alpha * ds[j];
+                y[j] += alpha * dy[j];
             }
         }
-        if (mub <= kStableGap * mu0) {
-            // Once the gap is small, an iterate that answers the LCP ends the iteration as it stands.
-            const double raw = lcpResidual(p, uu);
-            work += rowWork;
-            if (raw <= tolAbs) {
-                xOut = p;
-                return true;
+        if (broke) return haveBest;
+        // Another round when a pushing contact slides by more than the tolerance (read off the last iteration's
+        // velocities: the iteration stops with them current). Without one the round's answer is the last.
+        bool slides = false;
+        if (!frictionless && round + 1 < kRounds)
+            for (int c = 0; c < nc && !slides; ++c) {
+                const std::uint8_t act = activeOf(c);  // one edge of the cone active: the contact slides
+                slides = two[std::size_t(c)] && (act == 1 || act == 2) &&
+                         friction[std::size_t(c)] * std::fabs(uu[std::size_t(2 * c + 1)]) > tolAbs;
             }
-            // Without friction the relaxation is the LCP itself, and its iterate certifies once every contact's
-            // impulse or velocity is within the tolerance: a few iterations after the gap is at the data's precision
-            // (a contact without load or approach keeps both at about the square root of the gap). The rounding
-            // below can class a slowly separating contact as pushing before then, and the face it gives does not
-            // hold; so such an island goes on while its gap still falls at least twofold an iteration.
-            const bool onTheWay = frictionless && mub <= 0.5 * lastMub;
-            lastMub = mub;
-            if (!onTheWay) {
-                // Stop when the active constraints are those of the last iteration (the active-set iteration
-                // finishes from there), or once converged to the data's precision.
-                for (int c = 0; c < nc; ++c) cls[std::size_t(c)] = activeOf(c);
-                if (cls == prevCls) break;
-                prevCls = cls;
-                if (mub <= 1e-12 * mu0 && rdMax <= 1e-10 * v0 && rpMax <= 1e-10 * v0) break;
-            }
+        if (!slides && !haveBest) {
+            rounded(xOut);
+            return true;
         }
-        // H^-1 per contact from e = s / y (capped: a contact inside its cone becomes a stiff constraint).
-        for (int c = 0; c < nc; ++c) {
-            const double gn = diag[std::size_t(2 * c)];
-            const int cnt = two[std::size_t(c)] ? 2 : 1;
-            for (int i = 0; i < cnt; ++i) {
-                const std::size_t j = std::size_t(2 * c + i);
-                e[j] = std::min(s[j] / y[j], 1e12 / gn);
-            }
-            double* H = &hinv[std::size_t(3 * c)];
-            if (two[std::size_t(c)]) {
-                const double mu = friction[std::size_t(c)];
-                const double e0 = e[std::size_t(2 * c)], e1 = e[std::size_t(2 * c + 1)];
-                H[0] = (e0 + e1) / (4.0 * mu * mu);
-                H[1] = (e1 - e0) / (4.0 * mu);
-                H[2] = (e0 + e1) / 4.0;
-            } else {
-                H[0] = e[std::size_t(2 * c)];
-                H[1] = H[2] = 0.0;
-            }
+        velocities(p, uTrue);
+        work += rowWork;
+        const double raw = lcpResidual(p, uTrue);
+        if (raw <= tolAbs) {
+            xOut = p;
+            return true;
         }
-        if (ndof > 0) {
-            if (!analysed) buildSystem();
-            analysed = true;
-            fillSystem();
-            if (!kbFactor.factorize(Kb, true)) return false;
-            work += std::uint64_t(Kb.nonZeros()) + 8 * std::uint64_t(kbFactor.factorNonZeros()) +
-                    2 * std::uint64_t(sc.entryCount);  // every entry counts in the work, read or not
+        if (raw < bestRaw) {
+            bestRaw = raw;
+            rounded(xOut);
+            haveBest = true;
         }
-        // Predictor (affine scaling).
-        for (std::size_t j = 0; j < rc.size(); ++j) rc[j] = s[j] * y[j];
-        if (!direction()) return false;
-        const double ap = maxStep(s, ds), ad = maxStep(y, dy);
-        const double aAff = std::min(ap, ad);
-        double gapAff = 0.0;
-        for (std::size_t j = 0; j < s.size(); ++j) gapAff += (s[j] + aAff * ds[j]) * (y[j] + aAff * dy[j]);
-        const double ratio = gapAff / double(m) / mub;
-        const double sigma = ratio * ratio * ratio;
-        dsAff = ds;
-        dyAff = dy;
-        // Corrector.
-        for (int c = 0; c < nc; ++c) {
-            const int cnt = two[std::size_t(c)] ? 2 : 1;
-            for (int i = 0; i < cnt; ++i) {
-                const std::size_t j = std::size_t(2 * c + i);
-                rc[j] = s[j] * y[j] + dsAff[j] * dyAff[j] - sigma * mub;
-            }
-        }
-        if (!direction()) return false;
-        const double alpha = std::min(1.0, 0.99 * std::min(maxStep(s, ds), maxStep(y, dy)));
-        for (std::size_t j = 0; j < p.size(); ++j) {
-            p[j] += alpha * dp[j];
-            s[j] += alpha * ds[j];
-            y[j] += alpha * dy[j];
-        }
+        if (!slides) break;
+        for (int c = 0; c < nc; ++c)
+            shift[std::size_t(c)] = two[std::size_t(c)] ? friction[std::size_t(c)] * std::fabs(uTrue[std::size_t(2 * c + 1)]) : 0.0;
     }
-    // The answer with the constraints whose slack is small against their multiplier taken as active.
-    for (int c = 0; c < nc; ++c) {
-        double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
-        const std::uint8_t act = activeOf(c);
-        const bool a0 = (act & 1) != 0, a1 = (act & 2) != 0;
-        const double mu = friction[std::size_t(c)];
-        if (!two[std::size_t(c)]) {
-            if (a0) pn = 0.0;
-            pt = 0.0;
-        } else if (a0 && a1) {
-            pn = pt = 0.0;
-        } else if (a0) {
-            pt = mu * std::max(pn, 0.0);
-        } else if (a1) {
-            pt = -mu * std::max(pn, 0.0);
-        }
-        xOut[std::size_t(2 * c)] = pn;
-        xOut[std::size_t(2 * c + 1)] = pt;
-    }
-    return true;
+    return haveBest;
 }
 
 }  // namespace detail
