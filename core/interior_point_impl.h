@@ -237,6 +237,11 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
             }
         }
     };
+    // The first of the sorted rows [first, last) that is not below `row` (a column of Kb holds a few bodies' components).
+    auto rowAtOrAfter = [](const int* first, const int* last, int row) {
+        while (first != last && *first < row) ++first;
+        return first;
+    };
     // The mass diagonal of Kb's values (the rest 0).
     auto fillMass = [&](double* values) {
         std::fill(values, values + Kb.nonZeros(), 0.0);
@@ -270,12 +275,13 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                     for (int sa = 0; sa < 2; ++sa) {
                         const int da = q.d[sa];
                         if (da < 0) continue;
-                        const int* first = rows + cols[col];
-                        const int* last = rows + cols[col + 1];
+                        // The column holds the moving components of each body its own shares a contact with, in
+                        // order: those of da's body follow one another.
+                        const int* at = rowAtOrAfter(rows + cols[col], rows + cols[col + 1], da);
                         for (int a = 0; a < 3; ++a) {
                             if (locked[std::size_t(da + a)]) continue;
-                            const int at = int(std::lower_bound(first, last, da + a) - rows);
-                            values[at] += q.n[sa][a] * en + q.t[sa][a] * et;
+                            values[at - rows] += q.n[sa][a] * en + q.t[sa][a] * et;
+                            ++at;
                         }
                     }
                 }
@@ -361,7 +367,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         kbFactor.analyzePattern(Kb, cache);
         auto place = [&](int row, int col) {
             const int* rows = Kb.innerIndexPtr();
-            return int(std::lower_bound(rows + Kb.outerIndexPtr()[col], rows + Kb.outerIndexPtr()[col + 1], row) -
+            return int(rowAtOrAfter(rows + Kb.outerIndexPtr()[col], rows + Kb.outerIndexPtr()[col + 1], row) -
                        rows);
         };
         diagPos.resize(std::size_t(ndof));
@@ -444,15 +450,35 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 ph[0] = pn;
                 ph[1] = pt;
             } else if (act != 3) {
-                // One edge of the cone, p = (1, sgn mu) q: the LCP's slip face, whose equation is u_n = 0 (the
-                // relaxation's would be u_n + sgn mu u_t = 0). dp = (1, sgn mu) dq with dq = -(u_n + J_n dv) / (eps G_nn).
+                // One edge of the cone, p = (1, sgn mu) q, on the LCP's rim equation u_n = 0 (dq = -(u_n + J_n dv) /
+                // (eps G_nn)); while no contact on a rim slips by more than the tolerance, on the relaxation's
+                // u_n + sgn mu u_t = 0 instead (the same answers there, and a symmetric system).
                 const double mu = friction[std::size_t(c)];
                 const double sgn = act == 1 ? 1.0 : -1.0;
                 E[0] = w;
                 E[2] = w * sgn * mu;
                 ph[0] = pn;
                 ph[1] = sgn * mu * pn;
-                slips = true;
+                slips = slips || std::fabs(uu[std::size_t(2 * c + 1)]) > tolAbs;
+            }
+        }
+        if (!slips) {
+            // The relaxation's rim: E = w (1, sgn mu)^T (1, sgn mu) / (1 + mu^2), p^ the iterate's projection.
+            for (int c = 0; c < nc; ++c) {
+                double* E = &faceE[std::size_t(4 * c)];
+                if (!two[std::size_t(c)] || E[2] == 0.0) continue;
+                const double mu = friction[std::size_t(c)];
+                const double sgn = E[2] > 0.0 ? 1.0 : -1.0;
+                const double k = 1.0 / (1.0 + mu * mu);
+                const double w = E[0];
+                const double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
+                double* ph = &pf[std::size_t(2 * c)];
+                E[0] = w * k;
+                E[1] = E[2] = w * k * sgn * mu;
+                E[3] = w * k * mu * mu;
+                const double along = (pn + sgn * mu * pt) * k;
+                ph[0] = along;
+                ph[1] = sgn * mu * along;
             }
         }
         if (!slips) {
