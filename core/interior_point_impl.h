@@ -421,9 +421,10 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     // (a slipping contact on its edge of the cone), and a proximal term eps G |p - p^|^2 selects among the face's
     // answers (a pile's rows are redundant, so there are many), p^ the iterate projected onto the face. Each solve
     // is a proximal step from the last answer pf, computed from its velocities u (matrix-free, so the step's own
-    // rounding does not accumulate): per contact dp = -E (u + J dv) with E = B B^T / (eps G), B an orthonormal
-    // basis of its free directions, and (M + J^T E J) dv = -J^T E u. The system is M + J^T H^-1 J with E in place of
-    // H^-1, so the iteration's analysis serves it. The iterate has the answer's face well before it certifies:
+    // rounding does not accumulate): per contact dp = -E (u + J dv) with E = B R / (eps G), B a basis of its free
+    // directions and R the velocity rows they answer (B^T with B orthonormal, except on the LCP's rim equation
+    // below), and (M + J^T E J) dv = -J^T E u. The system is M + J^T H^-1 J with E in place of H^-1, so the
+    // iteration's analysis serves it. The iterate has the answer's face well before it certifies:
     // degenerate contacts (no load, no approach) keep impulse and velocity both near the gap's square root, so the
     // gap would have to fall several more orders (measured on a landing 20-row pyramid: 157 iterations and 38 face
     // steps where the iteration alone took 282); the face step ends the iteration there.
@@ -431,7 +432,15 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     std::vector<double> pf(std::size_t(2 * nc), 0.0), uf(std::size_t(2 * nc), 0.0);
     auto faceStep = [&]() -> bool {
         if (!analysed || ndof == 0) return false;
+        // A contact on one edge of its cone, p = (1, sgn mu) q, solves the LCP's rim equation u_n = 0 (dq = -(u_n +
+        // J_n dv) / (eps G_nn)) once some contact on a rim slips by more than the tolerance; until then the
+        // relaxation's u_n + sgn mu u_t = 0, E = w (1, sgn mu)^T (1, sgn mu) / (1 + mu^2) with p^ the iterate's
+        // projection onto the edge (the same answers there, and a symmetric system).
         bool slips = false;
+        for (int c = 0; c < nc && !slips; ++c) {
+            const std::uint8_t act = activeOf(c);
+            slips = two[std::size_t(c)] && (act == 1 || act == 2) && std::fabs(uu[std::size_t(2 * c + 1)]) > tolAbs;
+        }
         for (int c = 0; c < nc; ++c) {
             const std::uint8_t act = activeOf(c);
             const double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
@@ -450,45 +459,29 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 ph[0] = pn;
                 ph[1] = pt;
             } else if (act != 3) {
-                // One edge of the cone, p = (1, sgn mu) q, on the LCP's rim equation u_n = 0 (dq = -(u_n + J_n dv) /
-                // (eps G_nn)); while no contact on a rim slips by more than the tolerance, on the relaxation's
-                // u_n + sgn mu u_t = 0 instead (the same answers there, and a symmetric system).
                 const double mu = friction[std::size_t(c)];
                 const double sgn = act == 1 ? 1.0 : -1.0;
-                E[0] = w;
-                E[2] = w * sgn * mu;
-                ph[0] = pn;
-                ph[1] = sgn * mu * pn;
-                slips = slips || std::fabs(uu[std::size_t(2 * c + 1)]) > tolAbs;
+                if (slips) {
+                    E[0] = w;
+                    E[2] = w * sgn * mu;
+                    ph[0] = pn;
+                    ph[1] = sgn * mu * pn;
+                } else {
+                    const double k = 1.0 / (1.0 + mu * mu);
+                    E[0] = w * k;
+                    E[1] = E[2] = w * k * sgn * mu;
+                    E[3] = w * k * mu * mu;
+                    const double along = (pn + sgn * mu * pt) * k;
+                    ph[0] = along;
+                    ph[1] = sgn * mu * along;
+                }
             }
+            double* H = &faceH[std::size_t(3 * c)];  // the symmetric form's H^-1 entries (used without slips)
+            H[0] = E[0];
+            H[1] = E[1];
+            H[2] = E[3];
         }
         if (!slips) {
-            // The relaxation's rim: E = w (1, sgn mu)^T (1, sgn mu) / (1 + mu^2), p^ the iterate's projection.
-            for (int c = 0; c < nc; ++c) {
-                double* E = &faceE[std::size_t(4 * c)];
-                if (!two[std::size_t(c)] || E[2] == 0.0) continue;
-                const double mu = friction[std::size_t(c)];
-                const double sgn = E[2] > 0.0 ? 1.0 : -1.0;
-                const double k = 1.0 / (1.0 + mu * mu);
-                const double w = E[0];
-                const double pn = p[std::size_t(2 * c)], pt = p[std::size_t(2 * c + 1)];
-                double* ph = &pf[std::size_t(2 * c)];
-                E[0] = w * k;
-                E[1] = E[2] = w * k * sgn * mu;
-                E[3] = w * k * mu * mu;
-                const double along = (pn + sgn * mu * pt) * k;
-                ph[0] = along;
-                ph[1] = sgn * mu * along;
-            }
-        }
-        if (!slips) {
-            for (int c = 0; c < nc; ++c) {
-                const double* E = &faceE[std::size_t(4 * c)];
-                double* H = &faceH[std::size_t(3 * c)];
-                H[0] = E[0];
-                H[1] = E[1];
-                H[2] = E[3];
-            }
             hinv.swap(faceH);
             fillSystem();
             hinv.swap(faceH);
