@@ -271,6 +271,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::vector<double> bestX = x, bestU = u;
         std::vector<double> warmX = x, warmU = u;
         bool interiorTried = false;
+        bool warmFaceTried = false;  // phase 0 has iterated from warmX (its face refined from that point)
         double bestResidual = lcpResidual(x, u);
         // Phases: 0 refines on the face of the warm start (a resting pile's face rarely changes), 1 is the
         // active-set iteration proper, 2 refines on the face of the best iterate of phase 1. A cold start (no
@@ -315,6 +316,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                         work += rowWork;
                         warmX = x;
                         warmU = u;
+                        warmFaceTried = false;
                         center = x;
                         currentMerit = merit(x, u);
                         limit = iterations + kPolish;
@@ -345,6 +347,10 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     // compared with the warm start's own merit).
                     std::fill(lastState.begin(), lastState.end(), std::uint8_t(255));
                 } else {
+                    // Phase 1 found nothing better than the point phase 0 started from, whose face phase 0 has
+                    // refined already: phase 2 would repeat it (on the 2000-circle pile's failed landing steps, 8
+                    // more factorisations of the same face from the same point).
+                    if (warmFaceTried && bestX == warmX) break;
                     // The states oscillate among degenerate contacts: fix the face of the best iterate (its positive
                     // impulses, its sticking and slipping contacts) and refine on it.
                     phase = 2;
@@ -357,6 +363,7 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 }
             }
             if (polish) center = x;
+            if (phase == 0) warmFaceTried = true;
             ++iterations;
             // The proximal sub-problem's velocities: u + eps G_ii (x - center).
             for (std::size_t i = 0; i < x.size(); ++i) ue[i] = u[i] + epsRel * diag[i] * (x[i] - center[i]);

@@ -126,6 +126,13 @@ constexpr int kActiveSetMinContacts = 64;
 /// but the 20-row pyramid +0.7 %; 192 and 256 send its landing islands of that size back to Lemke (2575-3076 pivots
 /// in its first 120 steps against 454).
 constexpr int kPathFirstContacts = 128;
+/// Pivots per unknown of the friction LCP's Lemke solve (the c of its cap c n + 100) for a 2D island of
+/// kPathFirstContacts or more whose path answer did not certify: the 3D world's cap, not the 2D one (8, for Lemke's
+/// own landings of small tall structures). In every 2D benchmark scene and test, Lemke finished none of those solves:
+/// on the 2000-circle container pile (islands of 450-730 contacts whose sliding contacts the path does not certify)
+/// it ran out at 8 pivots per unknown on every such step, at 1.1-3.0 s each (the frictionless fallback that followed:
+/// 8-16 ms), and at 60 per unknown (10 s for one step) as well.
+constexpr int kPathLemkePivotsPerUnknown = 2;
 /// The same for 3D islands (pyramid of four directions), and the smallest 3D island the path takes at all (2D:
 /// kActiveSetMinContacts): every island of 32 or more. On the toppling 100-cube heap (callgrind, scratch driver)
 /// 32 instead of 64: its landing's first 34 steps -11 % instructions, 200 steps -7 %; 16 instead of 32: +24 % over

@@ -178,7 +178,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
     // solution for approaching contacts between bodies that can move). A frame must not stall, so the friction
     // solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns, c = hooks.frictionPivotsPerUnknown(): 8 in 2D,
-    // 2 in 3D). A settled island takes about n/2, but a tall structure that stands by friction alone takes 2-5n
+    // 2 in 3D and behind a 2D path answer that did not certify on an island of kPathFirstContacts or more). A settled island takes about n/2, but a tall structure that stands by friction alone takes 2-5n
     // while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not a stalled one:
     // the frictionless answer lets the structure slide, the next step starts farther from rest, and the island
     // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve
@@ -193,6 +193,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
         bool reserved = false;
+        bool pathFailed = false;  // a 2D island of kPathFirstContacts or more whose path answer did not certify
         Resolution res;
         res.status = LcpStatus::pivot_limit;
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
@@ -285,6 +286,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (reserveNearMiss) pathBodies = ioBodies;
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
+            pathFailed = D::kDim == 2 && bigIsland && !usable(fast);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;
             if (usable(fast) && reserveNearMiss && fast.approximate && fast.scaledResidual > kPathAccept3) {
                 ioBodies.swap(pathBodies);  // the bodies before the path; pathBodies holds its near miss
@@ -306,6 +308,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done && reserved && budgeted && spent >= job.grant) useReserve();
         if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
+            // Lemke behind a 2D path answer that did not certify on a big island: the smaller cap (the frame must
+            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown).
+            if (pathFailed && def.lcp.maxPivots <= 0)
+                options.lcp.maxPivots = kPathLemkePivotsPerUnknown * (k + 2) * nc + 100;
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             charge(res);
             if (closedForm && !res.fastPath && assembly > work::kClosedFormIsland) spent += assembly - work::kClosedFormIsland;
