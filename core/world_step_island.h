@@ -178,12 +178,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
     // solution for approaching contacts between bodies that can move). A frame must not stall, so the friction
     // solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns, c = hooks.frictionPivotsPerUnknown(): 8 in 2D,
-    // 2 in 3D and behind a 2D path answer that did not certify on an island of kPathFirstContacts or more). A settled island takes about n/2, but a tall structure that stands by friction alone takes 2-5n
-    // while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not a stalled one:
-    // the frictionless answer lets the structure slide, the next step starts farther from rest, and the island
-    // keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a friction solve
-    // that ran out of work ends the attempt (the island is approximated instead); only a failure of another kind
-    // tries the frictionless LCP.
+    // 2 in 3D; kPathLemkePivotsPerUnknown = 2 behind a 2D path answer that did not certify on an island of
+    // kPathFirstContacts or more). A settled island takes about n/2, but a tall structure that stands by friction
+    // alone takes 2-5n while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not
+    // a stalled one: the frictionless answer lets the structure slide, the next step starts farther from rest, and
+    // the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a
+    // friction solve that ran out of work ends the attempt (the island is approximated instead); only a failure of
+    // another kind tries the frictionless LCP.
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
     const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
@@ -309,9 +310,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
             // Lemke behind a 2D path answer that did not certify on a big island: the smaller cap (the frame must
-            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown).
+            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown), never above
+            // what a budget left it (limitFor).
             if (pathFailed && def.lcp.maxPivots <= 0)
-                options.lcp.maxPivots = kPathLemkePivotsPerUnknown * (k + 2) * nc + 100;
+                options.lcp.maxPivots =
+                    std::min(options.lcp.maxPivots, kPathLemkePivotsPerUnknown * (k + 2) * nc + 100);
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             charge(res);
             if (closedForm && !res.fastPath && assembly > work::kClosedFormIsland) spent += assembly - work::kClosedFormIsland;
