@@ -9,9 +9,14 @@
 
 namespace unison::bench {
 
-/// Unison's island fast path on one LCP, as bench_lcp's "fast" columns call it (the hook where the fast path's
-/// entry point is wired; until then the same LemkeSolver::solve).
-LcpResult unisonFastPath(LemkeSolver& solver, const SparseLcp& lcp, const LcpOptions& options);
+struct ManifoldLcp;
+struct ManifoldSnapshot;
+
+/// Unison's fast path on one member, as bench_lcp's "fast" columns call it: the active-set path from a cold start on
+/// the snapshot's bodies and contacts, then Lemke where the path does not certify its answer or where the member has
+/// no bodies (float data). *usedActiveSet tells which answered.
+LcpResult unisonFastPath(LemkeSolver& solver, const ManifoldLcp& m, const ManifoldSnapshot& snap,
+                         const LcpOptions& options, bool* usedActiveSet);
 
 /// Runs and prints the family (quick: the 12-row frictionless members only; `filter`: names containing it), timing
 /// each solver as the fastest of repeats within `budgetMs`, and returns the rows as JSON.

@@ -124,43 +124,68 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         std::uint64_t work = 0;
         const std::uint64_t rowWork = std::uint64_t(16 * nc + 4 * nb);  // one matrix-free product and its residuals
 
-        // u = b + J M^-1 J^T x, per body (x: p_n, p_t of contact c at 2c, 2c + 1).
+        // u = b + J M^-1 J^T x, per body (x: p_n, p_t of contact c at 2c, 2c + 1). The rows are packed once in the
+        // order of x (per row: each side's body slot 3k, -1 where the body is immovable, its components and b), so
+        // that the product, the innermost loop of every phase, reads one contiguous array.
+        struct PackedRow {
+            int slot[2];
+            double lx[2], ly[2], ang[2];
+            double b;
+        };
+        std::vector<PackedRow> packed(std::size_t(2 * nc));
+        for (int c = 0; c < nc; ++c) {
+            for (int r = 0; r < 2; ++r) {
+                const detail::JacobianRow<D>& row = rowAt(c, r);
+                PackedRow& q = packed[std::size_t(2 * c + r)];
+                for (int s = 0; s < 2; ++s) {
+                    const int k = row.body[s];
+                    q.slot[s] = dof[std::size_t(k)] < 0 ? -1 : 3 * k;
+                    q.lx[s] = row.lin[s].x;
+                    q.ly[s] = row.lin[s].y;
+                    q.ang[s] = row.ang[s];
+                }
+                q.b = bAt(c, r);
+            }
+        }
         std::vector<double> mom(std::size_t(3 * nb));
+        std::vector<double> invMassOf(std::size_t(3 * nb), 0.0);
+        for (int k = 0; k < nb; ++k) {
+            const ResolverBody<D>& B = ioBodies[std::size_t(k)];
+            invMassOf[std::size_t(3 * k)] = B.invMass;
+            invMassOf[std::size_t(3 * k + 1)] = B.invMass;
+            invMassOf[std::size_t(3 * k + 2)] = B.invInertia;
+        }
         auto velocities = [&](const std::vector<double>& x, std::vector<double>& u) {
             std::fill(mom.begin(), mom.end(), 0.0);
-            for (int c = 0; c < nc; ++c) {
-                for (int r = 0; r < 2; ++r) {
-                    const double p = x[std::size_t(2 * c + r)];
-                    if (p == 0.0) continue;
-                    const detail::JacobianRow<D>& row = rowAt(c, r);
-                    for (int s = 0; s < 2; ++s) {
-                        const int k = row.body[s];
-                        if (dof[std::size_t(k)] < 0) continue;
-                        mom[std::size_t(3 * k)] += p * row.lin[s].x;
-                        mom[std::size_t(3 * k + 1)] += p * row.lin[s].y;
-                        mom[std::size_t(3 * k + 2)] += p * row.ang[s];
-                    }
+            double* m = mom.data();
+            const PackedRow* rows = packed.data();
+            const double* xp = x.data();
+            const int nr = 2 * nc;
+            for (int i = 0; i < nr; ++i) {
+                const double p = xp[i];
+                if (p == 0.0) continue;
+                const PackedRow& q = rows[i];
+                for (int s = 0; s < 2; ++s) {
+                    const int k = q.slot[s];
+                    if (k < 0) continue;
+                    m[k] += p * q.lx[s];
+                    m[k + 1] += p * q.ly[s];
+                    m[k + 2] += p * q.ang[s];
                 }
             }
-            for (int k = 0; k < nb; ++k) {
-                if (dof[std::size_t(k)] < 0) continue;
-                const ResolverBody<D>& B = ioBodies[std::size_t(k)];
-                mom[std::size_t(3 * k)] *= B.invMass;
-                mom[std::size_t(3 * k + 1)] *= B.invMass;
-                mom[std::size_t(3 * k + 2)] *= B.invInertia;
-            }
-            for (int c = 0; c < nc; ++c) {
-                for (int r = 0; r < 2; ++r) {
-                    const detail::JacobianRow<D>& row = rowAt(c, r);
-                    double v = bAt(c, r);
-                    for (int s = 0; s < 2; ++s) {
-                        const int k = row.body[s];
-                        if (dof[std::size_t(k)] < 0) continue;
-                        v += row.lin[s].x * mom[std::size_t(3 * k)] + row.lin[s].y * mom[std::size_t(3 * k + 1)] +
-                             row.ang[s] * mom[std::size_t(3 * k + 2)];
-                    }
-                    u[std::size_t(2 * c + r)] = v;
+            // An immovable body's slots are never written or read (their inverse masses need not be 0).
+            const double* im = invMassOf.data();
+            for (int j = 0; j < 3 * nb; ++j) m[j] *= im[j];
+            double* up = u.data();
+            for (int i = 0; i < nr; ++i) {
+                const PackedRow& q = rows[i];
+                double v = q.b;
+                for (int s = 0; s < 2; ++s) {
+                    const int k = q.slot[s];
+                    if (k < 0) continue;
+                    v += q.lx[s] * m[k] + q.ly[s] * m[k + 1] + q.ang[s] * m[k + 2];
                 }
+                up[i] = v;
             }
         };
         // The Stewart–Trinkle LCP's complementarity residual of (x, u) (see the header comment).
