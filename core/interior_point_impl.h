@@ -372,31 +372,50 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         };
         diagPos.resize(std::size_t(ndof));
         for (int i = 0; i < ndof; ++i) diagPos[std::size_t(i)] = place(i, i);
-        readPos.clear();
-        readCode.clear();
+        // Written without branching on which entries the factorisation reads (about half, in no pattern): every
+        // entry goes to the next place, which then moves on only when it is read. The lists only grow (readStart
+        // gives their used part).
+        if (readPos.size() < std::size_t(36 * nc)) readPos.resize(std::size_t(36 * nc));
+        if (readCode.size() < std::size_t(36 * nc)) readCode.resize(std::size_t(36 * nc));
         readStart.assign(std::size_t(nc) + 1, 0);
         std::size_t entries = std::size_t(ndof);
+        std::size_t reads = 0;
+        const int* kbOuter = Kb.outerIndexPtr();
+        const int* order = kbFactor.symmetricOrder();  // nullptr: every entry is read
         for (int c = 0; c < nc; ++c) {
             const ContactRows& q = contactRows[std::size_t(c)];
+            const std::size_t first = reads;
             for (int sa = 0; sa < 2; ++sa) {
                 const int da = q.d[sa];
                 if (da < 0) continue;
                 for (int sb = 0; sb < 2; ++sb) {
                     const int db = q.d[sb];
                     if (db < 0) continue;
+                    // Every moving column of db's body holds the same rows (see above): da's moving components, in
+                    // order, from the same offset; found once in the first such column.
+                    int offset = 0;
+                    for (int bb = 0; bb < 3; ++bb) {
+                        if (locked[std::size_t(db + bb)]) continue;
+                        offset = place(da, db + bb) - kbOuter[db + bb];
+                        break;
+                    }
+                    int rank = 0;  // a's place among da's moving components
                     for (int a = 0; a < 3; ++a) {
                         if (locked[std::size_t(da + a)]) continue;
+                        const int at = offset + rank++;
+                        const int ia = da + a;
                         for (int bb = 0; bb < 3; ++bb) {
                             if (locked[std::size_t(db + bb)]) continue;
                             ++entries;
-                            if (!kbFactor.readsSymmetric(da + a, db + bb)) continue;
-                            readPos.push_back(place(da + a, db + bb));
-                            readCode.push_back(std::uint8_t((sa * 3 + a) << 4 | (sb * 3 + bb)));
-                            ++readStart[std::size_t(c) + 1];
+                            const bool read = !order || order[ia] <= order[db + bb];
+                            readPos[reads] = kbOuter[db + bb] + at;
+                            readCode[reads] = std::uint8_t((sa * 3 + a) << 4 | (sb * 3 + bb));
+                            reads += read ? 1 : 0;
                         }
                     }
                 }
             }
+            readStart[std::size_t(c) + 1] = int(reads - first);
         }
         for (int c = 0; c < nc; ++c) readStart[std::size_t(c) + 1] += readStart[std::size_t(c)];
         sc.entryCount = entries;

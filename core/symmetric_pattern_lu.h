@@ -55,8 +55,16 @@ struct SymmetricPatternAnalysis {
     std::vector<std::uint8_t> reachRun;
     static constexpr int kMaxRun = 4;  // longer runs measured slower
 
-    /// The analysis of `a` (square, compressed).
-    static std::shared_ptr<const SymmetricPatternAnalysis> of(const Eigen::SparseMatrix<double>& a);
+    /// Temporaries of `of` whose capacity a caller keeps from one analysis to the next (its contents never matter): a
+    /// step's new patterns would otherwise each take fresh memory for the ordering's copy of the pattern, and the
+    /// first touch of each fresh page costs a page fault.
+    struct Workspace {
+        Eigen::SparseMatrix<char> pattern;  // the minimum-degree routine's copy of the pattern (it overwrites it)
+        std::vector<int> position;
+    };
+    /// The analysis of `a` (square, compressed). `workspace` (nullptr: a local one) holds the temporaries.
+    static std::shared_ptr<const SymmetricPatternAnalysis> of(const Eigen::SparseMatrix<double>& a,
+                                                              Workspace* workspace = nullptr);
     std::size_t bytes() const {
         return sizeof(*this) + sizeof(int) * (perm.size() + iperm.size() + parent.size() + colPtr.size() +
                                               upperStart.size() + upperAt.size() + upperRow.size() +
@@ -88,7 +96,7 @@ public:
             return it->second.analysis;
         }
         ++misses_;
-        std::shared_ptr<const SymmetricPatternAnalysis> analysis = SymmetricPatternAnalysis::of(a);
+        std::shared_ptr<const SymmetricPatternAnalysis> analysis = SymmetricPatternAnalysis::of(a, &workspace_);
         if (it != entries_.end()) {  // a different pattern with the same hash: the newer one replaces it
             bytes_ -= it->second.bytes;
             entries_.erase(it);
@@ -167,6 +175,7 @@ private:
     }
 
     std::unordered_map<std::uint64_t, Entry> entries_;
+    SymmetricPatternAnalysis::Workspace workspace_;
     std::size_t maxBytes_ = kDefaultBytes, bytes_ = 0;
     std::uint64_t generation_ = 0, hits_ = 0, misses_ = 0;
 };
@@ -283,6 +292,9 @@ public:
         return true;
     }
 
+    /// The analysed order's inverse permutation (old index -> new), the one readsSymmetric compares; nullptr when
+    /// the pattern is not symmetric (then every entry is read).
+    const int* symmetricOrder() const { return an_ && an_->symmetric ? an_->iperm.data() : nullptr; }
     /// Whether factorize(a, true) reads a's entry (row, col) of the analysed pattern: it reads only those on and above
     /// the diagonal of P A P^T, so a caller promising symmetric values need not compute the others.
     /// (A pattern factorize refuses has no order: every entry counts as read.)
@@ -501,7 +513,10 @@ private:
     mutable std::vector<double> work_;
 };
 
-inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis::of(const Eigen::SparseMatrix<double>& a) {
+inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis::of(const Eigen::SparseMatrix<double>& a,
+                                                                                   Workspace* workspace) {
+    Workspace local;
+    Workspace& ws = workspace ? *workspace : local;
     auto out = std::make_shared<SymmetricPatternAnalysis>();
     SymmetricPatternAnalysis& r = *out;
     const int n = int(a.rows());
@@ -514,7 +529,8 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     if (!a.isCompressed()) return out;
     const int* outer = a.outerIndexPtr();
     const int* inner = a.innerIndexPtr();
-    std::vector<int> position(std::size_t(a.nonZeros()));  // entry (i, j) -> the entry (j, i), both in a's storage
+    std::vector<int>& position = ws.position;  // entry (i, j) -> the entry (j, i), both in a's storage
+    position.resize(std::size_t(a.nonZeros()));
     {
         std::vector<int> next(outer, outer + n);
         for (int j = 0; j < n; ++j) {
@@ -528,10 +544,18 @@ inline std::shared_ptr<const SymmetricPatternAnalysis> SymmetricPatternAnalysis:
     }
     r.symmetric = true;
     // Eigen's AMDOrdering orders the pattern of a + a^T, which for a symmetric pattern in sorted order is a's own
-    // index arrays: its minimum-degree routine runs on a copy of a (it overwrites its argument) for the same order.
+    // index arrays: its minimum-degree routine runs on a copy of a's index arrays (it overwrites its argument and
+    // reads no values) for the same order. The copy is made with the room the routine grows it to (nnz + nnz / 5 +
+    // 2 n), so that a kept workspace is not reallocated.
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
     {
-        Eigen::SparseMatrix<double> pattern = a;
+        Eigen::SparseMatrix<char>& pattern = ws.pattern;
+        const Eigen::Index nnz = a.nonZeros();
+        pattern.resize(n, n);
+        pattern.resizeNonZeros(nnz + nnz / 5 + 2 * Eigen::Index(n));
+        pattern.resizeNonZeros(nnz);
+        std::copy(outer, outer + n + 1, pattern.outerIndexPtr());
+        std::copy(inner, inner + nnz, pattern.innerIndexPtr());
         Eigen::internal::minimum_degree_ordering(pattern, pinv);
     }
     r.perm.assign(pinv.indices().data(), pinv.indices().data() + n);  // new index -> old index
