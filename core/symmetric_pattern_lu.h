@@ -116,6 +116,11 @@ public:
         bytes_ += size;
         return analysis;
     }
+    /// The analysis of `a` with this cache's workspace, neither looked up nor kept: for patterns that do not come
+    /// back, whose analyses would only hold memory until they are dropped.
+    std::shared_ptr<const SymmetricPatternAnalysis> analysisOnce(const Eigen::SparseMatrix<double>& a) {
+        return SymmetricPatternAnalysis::of(a, &workspace_);
+    }
     /// Marks the entry of `key` as used in this generation, as a call of analysisOf that found it would, when it
     /// holds `analysis` (a caller that kept an analysis and its pattern skips the look-up).
     void keep(std::uint64_t key, const SymmetricPatternAnalysis* analysis) {
@@ -198,6 +203,20 @@ public:
         }
         an_ = cache ? cache->analysisOf(a, &key_) : SymmetricPatternAnalysis::of(a);
         // The factors' arrays are sized by factorize; it writes every entry before reading it.
+        nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
+    }
+
+    /// As analyzePattern for a pattern that is not expected back: analysed with `cache`'s workspace (when given) and
+    /// not offered to it.
+    void analyzePatternOnce(const Eigen::SparseMatrix<double>& a, SymmetricPatternCache* cache) {
+        if (!a.isCompressed()) {
+            Eigen::SparseMatrix<double> compressed = a;
+            compressed.makeCompressed();
+            analyzePatternOnce(compressed, cache);
+            return;
+        }
+        an_ = cache ? cache->analysisOnce(a) : SymmetricPatternAnalysis::of(a);
+        key_ = 0;
         nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
     }
 
