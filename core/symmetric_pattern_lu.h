@@ -195,29 +195,13 @@ public:
     /// the pattern, computed (and offered to it) otherwise. A pattern that is not symmetric is remembered as such,
     /// and factorize refuses it.
     void analyzePattern(const Eigen::SparseMatrix<double>& a, SymmetricPatternCache* cache = nullptr) {
-        if (!a.isCompressed()) {  // the index arrays are those of compressed storage
-            Eigen::SparseMatrix<double> compressed = a;
-            compressed.makeCompressed();
-            analyzePattern(compressed, cache);
-            return;
-        }
-        an_ = cache ? cache->analysisOf(a, &key_) : SymmetricPatternAnalysis::of(a);
-        // The factors' arrays are sized by factorize; it writes every entry before reading it.
-        nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
+        analyse(a, cache, true);
     }
 
     /// As analyzePattern for a pattern that is not expected back: analysed with `cache`'s workspace (when given) and
     /// not offered to it.
     void analyzePatternOnce(const Eigen::SparseMatrix<double>& a, SymmetricPatternCache* cache) {
-        if (!a.isCompressed()) {
-            Eigen::SparseMatrix<double> compressed = a;
-            compressed.makeCompressed();
-            analyzePatternOnce(compressed, cache);
-            return;
-        }
-        an_ = cache ? cache->analysisOnce(a) : SymmetricPatternAnalysis::of(a);
-        key_ = 0;
-        nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
+        analyse(a, cache, false);
     }
 
     /// For a caller that keeps this analysis for a matrix of the same pattern: marks it used in `cache` (when it came
@@ -523,6 +507,20 @@ private:
 
     std::shared_ptr<const SymmetricPatternAnalysis> an_;
     std::uint64_t key_ = 0;  // an_'s key in the cache it came from (keepAnalysis)
+
+    // analyzePattern (keep: offered to `cache`) and analyzePatternOnce (not).
+    void analyse(const Eigen::SparseMatrix<double>& a, SymmetricPatternCache* cache, bool keep) {
+        if (!a.isCompressed()) {  // the index arrays are those of compressed storage
+            Eigen::SparseMatrix<double> compressed = a;
+            compressed.makeCompressed();
+            analyse(compressed, cache, keep);
+            return;
+        }
+        key_ = 0;
+        an_ = !cache ? SymmetricPatternAnalysis::of(a) : keep ? cache->analysisOf(a, &key_) : cache->analysisOnce(a);
+        // The factors' arrays are sized by factorize; it writes every entry before reading it.
+        nnz_ = an_->symmetric ? std::size_t(an_->colPtr[std::size_t(an_->n)]) : 0;
+    }
     std::vector<double> lu_, d_;  // L(row, j) and U(j, row) of column j's entry p at lu_[2 p], lu_[2 p + 1]
     std::vector<double> l_;       // L(row, j) at l_[p] after a factorisation of symmetric values (symmetric_)
     std::size_t nnz_ = 0;         // entries of L below its diagonal
