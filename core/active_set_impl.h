@@ -243,11 +243,11 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
         // Buffers and the last system, kept across solves when the caller provides a scratch (ActiveSetScratch).
         ActiveSetScratch localScratch;
         ActiveSetScratch& scratch = settings.scratch ? *settings.scratch : localScratch;
-        auto interiorPoint = [&](std::vector<double>& xOut) {
+        auto interiorPoint = [&](std::vector<double>& xOut, const std::vector<double>* warmStart) {
             return detail::interiorPointStart<D>(ioBodies, sys.mu, diag, dof, ndof, bMax, rowAt, velocities,
                                                  lcpResidual, tolAbs, rowWork,
                                                  settings.patternCache, &scratch.interiorPoint, settings.maxWork, work,
-                                                 xOut);
+                                                 xOut, warmStart);
         };
         project(x);
         velocities(x, u);
@@ -331,8 +331,9 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                     // a settled island at the tolerance's floor): restart from the interior-point answer of the
                     // convex relaxation, on its face first.
                     interiorTried = true;
+                    // It starts from the warm start's impulses (a cold start from zero).
                     std::vector<double> xi(x.size(), 0.0);
-                    if (interiorPoint(xi)) {
+                    if (interiorPoint(xi, cold ? nullptr : &warmX)) {
                         out.interiorPoint = true;
                         lastFactored = false;  // the factors describe the warm face, not this answer's
                         x.swap(xi);

@@ -36,14 +36,16 @@ namespace detail {
 /// the residual that certifies an answer, diag the diagonal of J M^-1 J^T per unknown, dof each body's first degree
 /// of freedom (-1: immovable), bMax the largest |b|. Adds its work units to `work` and stops (false) once `maxWork`
 /// (0: none) is reached, or when a factorisation fails. `scratch` (nullptr: none) keeps the system between calls.
-/// An iterate that answers the LCP within tolAbs is returned as it stands, without the rounding.
+/// An iterate that answers the LCP within tolAbs is returned as it stands, without the rounding. `warmStart`
+/// (nullptr: a cold start) is the impulses to start from, in xOut's layout (below, "The start").
 template <class D, class RowAt, class Velocities, class Residual>
 bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::vector<double>& friction,
                         const std::vector<double>& diag, const std::vector<int>& dof, int ndof, double bMax,
                         const RowAt& rowAt, const Velocities& velocities, const Residual& lcpResidual,
                         double tolAbs, std::uint64_t rowWork,
                         SymmetricPatternCache* cache, InteriorPointScratch* scratch, std::uint64_t maxWork,
-                        std::uint64_t& work, std::vector<double>& xOut) {
+                        std::uint64_t& work, std::vector<double>& xOut,
+                        const std::vector<double>* warmStart = nullptr) {
     const int nc = int(friction.size());
     const int nb = int(bodies.size());
     std::vector<std::uint8_t> locked(std::size_t(ndof), std::uint8_t(0));
@@ -76,6 +78,43 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
         if (!two[std::size_t(c)]) return pn;
         return friction[std::size_t(c)] * pn + (i == 0 ? -pt : pt);
     };
+    // The start. Cold: p = 0, s = v0 / G_nn and y = v0 per constraint. From a warm start (warmStart: the impulses
+    // the contacts carried last step, as the active-set path holds them): p those impulses in the cone with each
+    // normal raised by kWarmLift v0 / G_nn (strictly inside, so s = C p exactly), and y the multipliers that zero
+    // the velocity residual at p, at least kWarmLift v0. The gap thresholds below stay relative to the cold start's
+    // gap (mu0Cold), so they mean the same velocities either way. Measured against the cold start: the landing 20-row
+    // testbed pyramid's first 120 steps 208 -> 156 iterations (-10 % instructions), the 30-row one's 300 steps
+    // 294 -> 215 (-16 %); lifts of 0.003 to 0.3 tried, 0.03 the best on both.
+    constexpr double kWarmLift = 0.03;
+    double mu0Cold = 0.0;
+    for (int c = 0; c < nc; ++c) mu0Cold += double(two[std::size_t(c)] ? 2 : 1) * v0 * v0 / diag[std::size_t(2 * c)];
+    mu0Cold /= double(m);
+    if (warmStart) {
+        for (int c = 0; c < nc; ++c) {
+            const double mu = friction[std::size_t(c)];
+            const double pn = std::max((*warmStart)[std::size_t(2 * c)], 0.0);
+            const double pt = two[std::size_t(c)] ? (*warmStart)[std::size_t(2 * c + 1)] : 0.0;
+            p[std::size_t(2 * c)] = pn + kWarmLift * v0 / diag[std::size_t(2 * c)];
+            p[std::size_t(2 * c + 1)] = std::min(mu * pn, std::max(-mu * pn, pt));
+        }
+        velocities(p, uu);
+        work += rowWork;
+        for (int c = 0; c < nc; ++c) {
+            const double un = uu[std::size_t(2 * c)], ut = uu[std::size_t(2 * c + 1)];
+            const double floor = kWarmLift * v0;
+            if (two[std::size_t(c)]) {
+                // rd = 0: mu (y0 + y1) = u_n, y1 - y0 = u_t.
+                const double mu = friction[std::size_t(c)];
+                s[std::size_t(2 * c)] = cp(p, c, 0);
+                s[std::size_t(2 * c + 1)] = cp(p, c, 1);
+                y[std::size_t(2 * c)] = std::max(0.5 * (un / mu - ut), floor);
+                y[std::size_t(2 * c + 1)] = std::max(0.5 * (un / mu + ut), floor);
+            } else {
+                s[std::size_t(2 * c)] = p[std::size_t(2 * c)];
+                y[std::size_t(2 * c)] = std::max(un, floor);
+            }
+        }
+    }
     // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
     // of freedom), only the values change. After the first iteration only the entries its L D L^T factorisation of
     // symmetric values reads (those on and above the diagonal in its elimination order) are written; the others stay 0.
@@ -635,7 +674,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
                 }
             }
             const double mub = gap / double(m);
-            if (it == 0) mu0 = mub;
+            if (it == 0) mu0 = warmStart && round == 0 ? mu0Cold : mub;
             // The face step, once the gap is small; after each attempt that does not certify, the next waits twice
             // as many iterations as the last wait plus one (1, 3 apart). On the landing 20-row pyramid no solve
             // needed a fourth; a cap of two costs it 6 % more instructions. The Box2D-manifold pyramid's frictionless
