@@ -22,9 +22,9 @@
 //   - when phase 0 does not certify and its best residual is above 10 tolerances, or at once when the warm start's
 //     residual is above 1000 (ActiveSetOptions::interiorPoint: a landing, not a settled island at the tolerance's
 //     floor), the path restarts once from the interior-point answer of the convex relaxation (Mehrotra's
-//     predictor-corrector on the cones |p_t| <= mu p_n, its Newton systems M + J^T H^-1 J in the bodies' degrees
-//     of freedom; core/interior_point_impl.h), on that answer's face first; that answer is then the start of
-//     phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
+//     predictor-corrector on the cones |p_t| <= mu p_n started at the warm start's impulses, its Newton systems
+//     M + J^T H^-1 J in the bodies' degrees of freedom; core/interior_point_impl.h), on that answer's face first;
+//     that answer is then the start of phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
 //     as it stands;
 //   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
