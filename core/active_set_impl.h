@@ -22,10 +22,10 @@
 //   - when phase 0 does not certify and its best residual is above 10 tolerances, or at once when the warm start's
 //     residual is above 1000 (ActiveSetOptions::interiorPoint: a landing, not a settled island at the tolerance's
 //     floor), the path restarts once from the interior-point answer of the convex relaxation (Mehrotra's
-//     predictor-corrector on the cones |p_t| <= mu p_n started at the warm start's impulses, its Newton systems
+//     predictor-corrector on the cones |p_t| <= mu p_n from the warm start's impulses, its Newton systems
 //     M + J^T H^-1 J in the bodies' degrees of freedom; core/interior_point_impl.h), on that answer's face first;
-//     that answer is then the start of phase 1. Where no contact slides the relaxation's answer is the LCP's, and it usually certifies
-//     as it stands;
+//     that answer is then the start of phase 1. Where no contact slides the relaxation's answer is the LCP's, and
+//     it usually certifies as it stands;
 //   - phase 1 (ActiveSetOptions::maxIterations) restarts from the warm start and reads the states off the
 //     augmented quantities y_n = p_n - u'_n / G_nn and y_t = p_t - u'_t / G_tt (ties within the tolerance count as
 //     touching and sticking), with u' the velocities of the proximal sub-problem u + eps G_ii (p - centre): eps
@@ -329,9 +329,8 @@ Resolution resolveActiveSet(std::vector<ResolverBody<D>>& ioBodies, const std::v
                 if (phase == 0 && settings.interiorPoint && !interiorTried && bestResidual > kInteriorGate * tolAbs) {
                     // The warm start's face does not hold and its best iterate is far from an answer (a landing, not
                     // a settled island at the tolerance's floor): restart from the interior-point answer of the
-                    // convex relaxation, on its face first.
+                    // convex relaxation (from the warm start's impulses), on its face first.
                     interiorTried = true;
-                    // It starts from the warm start's impulses (a cold start from zero).
                     std::vector<double> xi(x.size(), 0.0);
                     if (interiorPoint(xi, cold ? nullptr : &warmX)) {
                         out.interiorPoint = true;

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "body_space_solve.h"
+#include "interior_point_start.h"
 #include "symmetric_pattern_lu.h"
 
 namespace unison {
@@ -37,7 +38,7 @@ namespace detail {
 /// of freedom (-1: immovable), bMax the largest |b|. Adds its work units to `work` and stops (false) once `maxWork`
 /// (0: none) is reached, or when a factorisation fails. `scratch` (nullptr: none) keeps the system between calls.
 /// An iterate that answers the LCP within tolAbs is returned as it stands, without the rounding. `warmStart`
-/// (nullptr: a cold start) is the impulses to start from, in xOut's layout (below, "The start").
+/// (nullptr: a cold start) is the impulses to start from, in xOut's layout (core/interior_point_start.h).
 template <class D, class RowAt, class Velocities, class Residual>
 bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::vector<double>& friction,
                         const std::vector<double>& diag, const std::vector<int>& dof, int ndof, double bMax,
@@ -66,55 +67,14 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     std::vector<double> dp(std::size_t(2 * nc)), ds(std::size_t(2 * nc), 0.0), dy(std::size_t(2 * nc), 0.0);
     std::vector<double> dsAff(std::size_t(2 * nc), 0.0), dyAff(std::size_t(2 * nc), 0.0);
     std::vector<double> rc(std::size_t(2 * nc), 0.0), g(std::size_t(2 * nc));
-    for (int c = 0; c < nc; ++c) {
-        const int cnt = two[std::size_t(c)] ? 2 : 1;
-        for (int i = 0; i < cnt; ++i) {
-            s[std::size_t(2 * c + i)] = v0 / diag[std::size_t(2 * c)];
-            y[std::size_t(2 * c + i)] = v0;
-        }
-    }
+    // The start: cold, or from the warm start's impulses (core/interior_point_start.h).
+    const double mu0Cold = interiorPointStartingPoint(friction, two, diag, v0, m, warmStart, velocities, p, s, y, uu);
+    if (warmStart) work += rowWork;
     auto cp = [&](const std::vector<double>& q, int c, int i) {  // row i of C q for contact c
         const double pn = q[std::size_t(2 * c)], pt = q[std::size_t(2 * c + 1)];
         if (!two[std::size_t(c)]) return pn;
         return friction[std::size_t(c)] * pn + (i == 0 ? -pt : pt);
     };
-    // The start. Cold: p = 0, s = v0 / G_nn and y = v0 per constraint. From a warm start (warmStart: the impulses
-    // the contacts carried last step, as the active-set path holds them): p those impulses in the cone with each
-    // normal raised by kWarmLift v0 / G_nn (strictly inside, so s = C p exactly), and y the multipliers that zero
-    // the velocity residual at p, at least kWarmLift v0. The gap thresholds below stay relative to the cold start's
-    // gap (mu0Cold), so they mean the same velocities either way. Measured against the cold start: the landing 20-row
-    // testbed pyramid's first 120 steps 208 -> 156 iterations (-10 % instructions), the 30-row one's 300 steps
-    // 294 -> 215 (-16 %); lifts of 0.003 to 1 tried, 0.03 the best on both.
-    constexpr double kWarmLift = 0.03;
-    double mu0Cold = 0.0;
-    for (int c = 0; c < nc; ++c) mu0Cold += double(two[std::size_t(c)] ? 2 : 1) * v0 * v0 / diag[std::size_t(2 * c)];
-    mu0Cold /= double(m);
-    if (warmStart) {
-        for (int c = 0; c < nc; ++c) {
-            const double mu = friction[std::size_t(c)];
-            const double pn = std::max((*warmStart)[std::size_t(2 * c)], 0.0);
-            const double pt = two[std::size_t(c)] ? (*warmStart)[std::size_t(2 * c + 1)] : 0.0;
-            p[std::size_t(2 * c)] = pn + kWarmLift * v0 / diag[std::size_t(2 * c)];
-            p[std::size_t(2 * c + 1)] = std::min(mu * pn, std::max(-mu * pn, pt));
-        }
-        velocities(p, uu);
-        work += rowWork;
-        for (int c = 0; c < nc; ++c) {
-            const double un = uu[std::size_t(2 * c)], ut = uu[std::size_t(2 * c + 1)];
-            const double yMin = kWarmLift * v0;
-            if (two[std::size_t(c)]) {
-                // rd = 0: mu (y0 + y1) = u_n, y1 - y0 = u_t.
-                const double mu = friction[std::size_t(c)];
-                s[std::size_t(2 * c)] = cp(p, c, 0);
-                s[std::size_t(2 * c + 1)] = cp(p, c, 1);
-                y[std::size_t(2 * c)] = std::max(0.5 * (un / mu - ut), yMin);
-                y[std::size_t(2 * c + 1)] = std::max(0.5 * (un / mu + ut), yMin);
-            } else {
-                s[std::size_t(2 * c)] = p[std::size_t(2 * c)];
-                y[std::size_t(2 * c)] = std::max(un, yMin);
-            }
-        }
-    }
     // The body-space matrix M + J^T H^-1 J: its pattern is fixed (every contact couples its bodies' degrees
     // of freedom), only the values change. After the first iteration only the entries its L D L^T factorisation of
     // symmetric values reads (those on and above the diagonal in its elimination order) are written; the others stay 0.
@@ -633,14 +593,7 @@ bool interiorPointStart(const std::vector<ResolverBody<D>>& bodies, const std::v
     double bestRaw = std::numeric_limits<double>::infinity();
     for (int round = 0; round < kRounds; ++round) {
         if (round > 0) {
-            std::fill(p.begin(), p.end(), 0.0);
-            for (int c = 0; c < nc; ++c) {
-                const int cnt = two[std::size_t(c)] ? 2 : 1;
-                for (int i = 0; i < cnt; ++i) {
-                    s[std::size_t(2 * c + i)] = v0 / diag[std::size_t(2 * c)];
-                    y[std::size_t(2 * c + i)] = v0;
-                }
-            }
+            interiorPointStartingPoint(friction, two, diag, v0, m, nullptr, velocities, p, s, y, uu);  // cold
             faceWait = faceSkip = faceTries = 0;
             lastMub = std::numeric_limits<double>::infinity();
             std::fill(prevCls.begin(), prevCls.end(), std::uint8_t(255));
