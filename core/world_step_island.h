@@ -178,13 +178,14 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
     // solution for approaching contacts between bodies that can move). A frame must not stall, so the friction
     // solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns, c = hooks.frictionPivotsPerUnknown(): 8 in 2D,
-    // 2 in 3D; kPathLemkePivotsPerUnknown = 2 behind a 2D path answer that did not certify on an island of
-    // kPathFirstContacts or more). A settled island takes about n/2, but a tall structure that stands by friction
-    // alone takes 2-5n while it lands (cold starts of the card house, n = 400-700), and a cut-off path there is not
-    // a stalled one: the frictionless answer lets the structure slide, the next step starts farther from rest, and
-    // the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a budget, a
-    // friction solve that ran out of work ends the attempt (the island is approximated instead); only a failure of
-    // another kind tries the frictionless LCP.
+    // 2 in 3D; kPathLemkePivotsPerUnknown = 2, and no more work than the path spent, behind a 2D path answer that
+    // did not certify on an island of kPathFirstContacts or more). A settled island takes about n/2, but a tall
+    // structure that stands by friction alone takes 2-5n while it lands (cold starts of the card house, n =
+    // 400-700), and a cut-off path there is not a stalled one: the frictionless answer lets the structure slide, the
+    // next step starts farther from rest, and the island keeps failing until it has collapsed. def.lcp.maxPivots
+    // overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
+    // approximated instead); only a failure of another kind tries the frictionless LCP (on a big 2D island the
+    // active-set path first, then Lemke).
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
     const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
@@ -194,7 +195,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
         bool reserved = false;
-        bool pathFailed = false;  // a 2D island of kPathFirstContacts or more whose path answer did not certify
+        bool pathFailed = false;     // a 2D island of kPathFirstContacts or more whose path answer did not certify
+        std::uint64_t pathWork = 0;  // the path's own work units on this island
         Resolution res;
         res.status = LcpStatus::pivot_limit;
         const std::uint64_t frictionRows = (kDirs + 1) * std::uint64_t(nc);
@@ -287,6 +289,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (reserveNearMiss) pathBodies = ioBodies;
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
+            pathWork = fast.work;
             pathFailed = D::kDim == 2 && bigIsland && !usable(fast);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;
             if (usable(fast) && reserveNearMiss && fast.approximate && fast.scaledResidual > kPathAccept3) {
@@ -310,12 +313,24 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
             // Lemke behind a 2D path answer that did not certify on a big island: the smaller cap (the frame must
-            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown), never above
-            // what a budget left it (limitFor).
-            if (pathFailed && def.lcp.maxPivots <= 0)
+            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown) and no more
+            // work than the path spent, never above what a budget left it (limitFor).
+            const std::uint64_t maxWorkBefore = options.lcp.maxWork;
+            if (pathFailed && def.lcp.maxPivots <= 0) {
                 options.lcp.maxPivots =
                     std::min(options.lcp.maxPivots, kPathLemkePivotsPerUnknown * (k + 2) * nc + 100);
+                // ... and at most the work the path spent, split between pivots and the solver's own units as a
+                // budget's grant is (limitFor): on the 2000-circle pile's landing such a Lemke run cost 17-30 times
+                // the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and never finished.
+                const std::uint64_t unknowns = (kDirs + 2) * std::uint64_t(nc);
+                const std::uint64_t pivots =
+                    std::max<std::uint64_t>(1, pathWork / (work::kPerPivot + 6 * unknowns));
+                options.lcp.maxPivots = int(std::min<std::uint64_t>(std::uint64_t(options.lcp.maxPivots), pivots));
+                const std::uint64_t lemke = pathWork > work::kPerPivot * pivots ? pathWork - work::kPerPivot * pivots : 1;
+                options.lcp.maxWork = options.lcp.maxWork > 0 ? std::min(options.lcp.maxWork, lemke) : lemke;
+            }
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
+            options.lcp.maxWork = maxWorkBefore;
             charge(res);
             if (closedForm && !res.fastPath && assembly > work::kClosedFormIsland) spent += assembly - work::kClosedFormIsland;
             if (reserved && !usable(res)) useReserve();
@@ -329,8 +344,50 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             ++stats.failedIslands;
             const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
             const std::uint64_t spentWork = res.work;
+            bool answered = false;
+            // A big 2D island's frictionless LCP goes to the active-set path first, from last step's normal
+            // impulses: it is convex (the interior point's relaxation is the problem itself), and a pile's
+            // frictionless Lemke takes thousands of pivots of O(n) each (a 5500-contact circle pile: 1-46 thousand,
+            // up to 14 s). Its answer is certified against the frictionless LCP by the same residual rule; when it
+            // is not, the frictionless Lemke follows as before.
+            if (D::kDim == 2 && bigIsland && !(budgeted && spent >= job.grant)) {
+                std::vector<ContactNode<D>> frictionless = inNodes;
+                for (ContactNode<D>& node : frictionless) node.friction = 0.0;
+                std::vector<double> warmNormals;
+                warmNormals.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+                for (const PgsWarm<D>& w : setup.impulses) {
+                    warmNormals.push_back(w.normal);
+                    for (int d = 0; d < D::kDim; ++d) warmNormals.push_back(0.0);
+                }
+                ActiveSetOptions smoothOptions;
+                smoothOptions.patternCache = &worker.patterns;
+                smoothOptions.scratch = &worker.activeSet;
+                smoothOptions.coldInteriorPoint = false;
+                if (hugeIsland) {
+                    smoothOptions.floorExit = kFloorExit;
+                    smoothOptions.reuseSupersetPattern = true;
+                }
+                if (budgeted) smoothOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
+                ResolverOptions smoothPath = options;
+                smoothPath.tangentDeadZone = 0.0;
+                Resolution smooth = resolveActiveSet(ioBodies, frictionless, warmNormals, smoothPath, smoothOptions);
+                charge(smooth);
+                if (usable(smooth)) {
+                    // Written back as a frictionless answer: no friction impulses, the normal unknowns' basis.
+                    smooth.tangentImpulses.clear();
+                    smooth.predictedImpulses.clear();
+                    smooth.basis.clear();
+                    for (int c = 0; c < nc; ++c)
+                        if (smooth.impulses[std::size_t(c)] > 0.0) smooth.basis.push_back(c);
+                    res = std::move(smooth);
+                    res.pivots += spentPivots;
+                    res.work += spentWork;
+                    answered = true;
+                    ++stats.activeSetIslands;
+                }
+            }
             options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
-            if (limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
+            if (!answered && limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
                 options.lcp.warmBasis = nullptr;
                 res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
                 charge(res);
