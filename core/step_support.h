@@ -131,7 +131,8 @@ constexpr int kPathFirstContacts = 128;
 /// own landings of small tall structures). In every 2D benchmark scene and test, Lemke finished none of those solves:
 /// on the 2000-circle container pile (islands of 450-730 contacts whose sliding contacts the path does not certify)
 /// it ran out at 8 pivots per unknown on every such step, at 1.1-3.0 s each (the frictionless fallback that followed:
-/// 8-16 ms), and at 60 per unknown (10 s for one step) as well.
+/// 8-16 ms), and at 60 per unknown (10 s for one step) as well. Such a solve also gets no more work units than the
+/// path spent on the island (core/world_step_island.h).
 constexpr int kPathLemkePivotsPerUnknown = 2;
 /// The same for 3D islands (pyramid of four directions), and the smallest 3D island the path takes at all (2D:
 /// kActiveSetMinContacts): every island of 32 or more. On the toppling 100-cube heap (callgrind, scratch driver)
