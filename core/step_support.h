@@ -140,6 +140,11 @@ constexpr int kPathLemkePivotsPerUnknown = 2;
 /// the 34 steps (+16 % measured again with the kept island systems; Lemke answers islands of a few cubes in fewer
 /// instructions). The column pile and the drop heap: no change.
 constexpr int kPathFirstContacts3 = 32;
+/// The smallest 3D island whose friction Lemke behind an uncertified path answer also gets no more work units than
+/// the path spent (2D: every island of kPathFirstContacts or more). Behind the 3D path, in the drop heap's first 80
+/// steps, the toppling heap's 300 and every test, Lemke finished on islands of 82-192 contacts (251-1722 pivots) and
+/// on none of 373 contacts or more (each at its cap of 2 pivots per unknown: 4576-10,228 pivots, 0.5-3 s a step).
+constexpr int kPathLemkeWorkCap3 = 256;
 /// Iterations of the active-set phase for 3D islands (ActiveSetOptions::maxIterations; 2D keeps its default 12).
 /// 30 rather than 12: on the drop heap's landing islands of ~200 contacts phase 1 was still converging after 12
 /// (traced residuals 0.6 -> 5e-3 over its 12 iterations, then certified in phase 2).

@@ -195,7 +195,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm) {
         bool reserved = false;
-        bool pathFailed = false;     // a 2D island of kPathFirstContacts or more whose path answer did not certify
+        bool pathFailed = false;     // a big island whose path answer did not certify (3D: kPathLemkeWorkCap3 or more)
         std::uint64_t pathWork = 0;  // the path's own work units on this island
         Resolution res;
         res.status = LcpStatus::pivot_limit;
@@ -290,7 +290,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
             pathWork = fast.work;
-            pathFailed = D::kDim == 2 && bigIsland && !usable(fast);
+            pathFailed = bigIsland && !usable(fast) && (D::kDim == 2 || nc >= kPathLemkeWorkCap3);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;
             if (usable(fast) && reserveNearMiss && fast.approximate && fast.scaledResidual > kPathAccept3) {
                 ioBodies.swap(pathBodies);  // the bodies before the path; pathBodies holds its near miss
@@ -312,16 +312,18 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done && reserved && budgeted && spent >= job.grant) useReserve();
         if (!done && budgeted && spent >= job.grant) return res;  // the path used the grant: the approximation follows
         if (!done) {
-            // Lemke behind a 2D path answer that did not certify on a big island: the smaller cap (the frame must
-            // not stall on a solve that measured runs never saw finish; kPathLemkePivotsPerUnknown) and no more
-            // work than the path spent, never above what a budget left it (limitFor).
+            // Lemke behind a path answer that did not certify on a big island (3D: of kPathLemkeWorkCap3 contacts or
+            // more): the smaller cap (the frame must not stall on a solve that measured runs never saw finish;
+            // kPathLemkePivotsPerUnknown, the 3D world's own cap in 3D) and no more work than the path spent, never
+            // above what a budget left it (limitFor).
             const std::uint64_t maxWorkBefore = options.lcp.maxWork;
             if (pathFailed && def.lcp.maxPivots <= 0) {
                 options.lcp.maxPivots =
                     std::min(options.lcp.maxPivots, kPathLemkePivotsPerUnknown * (k + 2) * nc + 100);
                 // ... and at most the work the path spent, split between pivots and the solver's own units as a
                 // budget's grant is (limitFor): on the 2000-circle pile's landing such a Lemke run cost 17-30 times
-                // the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and never finished.
+                // the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and never finished;
+                // on the 3D drop heap's islands of 373-900 contacts, 0.5-3 s a step, it never finished either.
                 const std::uint64_t unknowns = (kDirs + 2) * std::uint64_t(nc);
                 const std::uint64_t pivots =
                     std::max<std::uint64_t>(1, pathWork / (work::kPerPivot + 6 * unknowns));
