@@ -159,16 +159,20 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // With a budget, what is left of the grant is split between a pivot cap (at that charge plus about 6 units per
     // unknown, the solver's own count of a pivot on a sparse block of half the unknowns) and the solver's work
     // limit, so that the two together stay within the grant.
-    auto limitFor = [&](std::uint64_t assembly, std::uint64_t firstFactor, std::uint64_t unknowns) -> bool {
-        if (budgeted && spent + assembly + firstFactor >= job.grant) return false;
-        spent += assembly;
-        if (!budgeted) return true;
-        const std::uint64_t left = job.grant - spent;
+    // Lemke's limits for `left` work units: a pivot cap (never above the current one) and the solver's work limit
+    // (never above `workCap`, 0: none).
+    auto limitLemke = [&](std::uint64_t left, std::uint64_t unknowns, std::uint64_t workCap) {
         std::uint64_t pivots = std::max<std::uint64_t>(1, left / (work::kPerPivot + 6 * unknowns));
         pivots = std::min(pivots, std::uint64_t(options.lcp.maxPivots));
         options.lcp.maxPivots = int(pivots);
         const std::uint64_t lemke = left > work::kPerPivot * pivots ? left - work::kPerPivot * pivots : 1;
-        options.lcp.maxWork = def.lcp.maxWork > 0 ? std::min(def.lcp.maxWork, lemke) : lemke;
+        options.lcp.maxWork = workCap > 0 ? std::min(workCap, lemke) : lemke;
+    };
+    auto limitFor = [&](std::uint64_t assembly, std::uint64_t firstFactor, std::uint64_t unknowns) -> bool {
+        if (budgeted && spent + assembly + firstFactor >= job.grant) return false;
+        spent += assembly;
+        if (!budgeted) return true;
+        limitLemke(job.grant - spent, unknowns, def.lcp.maxWork);
         return true;
     };
     auto charge = [&](const Resolution& res) {
@@ -227,32 +231,43 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         const bool bigIsland = nc >= pathFirst && !setup.declined;
         const bool hugeIsland = nc >= kHugeIslandContacts && !setup.declined;
         const int pathMin = D::kDim == 2 ? kActiveSetMinContacts : kPathFirstContacts3;
-        if (pathFits && nc >= pathMin && (activeSetFirst || bigIsland)) {
-            std::vector<double> warmImpulses;  // per contact: normal, then the friction impulse's components
-            warmImpulses.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
+        // The path's warm start, per contact: the normal impulse, then the friction impulse's components (0 with
+        // `friction` false).
+        auto pathWarm = [&](bool friction) {
+            std::vector<double> warm;
+            warm.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
             for (const PgsWarm<D>& w : setup.impulses) {
-                warmImpulses.push_back(w.normal);
-                for (int d = 0; d < D::kDim; ++d) warmImpulses.push_back(w.tangent[d]);
+                warm.push_back(w.normal);
+                for (int d = 0; d < D::kDim; ++d) warm.push_back(friction ? w.tangent[d] : 0.0);
             }
-            ActiveSetOptions fastOptions;
-            fastOptions.patternCache = &worker.patterns;
-            fastOptions.scratch = &worker.activeSet;
-            fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
-            // 3D landings start farther from their answer (cubes sliding on edges): phase 1 gets more iterations.
-            if (D::kDim == 3) fastOptions.maxIterations = kPathIterations3;
+            return warm;
+        };
+        // What every path solve of this island shares.
+        auto pathSettings = [&]() {
+            ActiveSetOptions o;
+            o.patternCache = &worker.patterns;
+            o.scratch = &worker.activeSet;
             // A big island's cold first step takes the primal-dual iteration from zero impulses: from the
             // interior-point answer Box2D v3's 100-row large pyramid's first step took 1.4-2.0 s instead of 3.6-4.2,
             // but its next 149 steps 16 % more work (docs/solver-notes.md).
-            fastOptions.coldInteriorPoint = false;
+            o.coldInteriorPoint = false;
             // A big island's iterations are factorisations of thousands of unknowns: a near miss at the floor of
             // the warm start's face ends there (kFloorExit, step_support.h).
             if (hugeIsland) {
-                fastOptions.floorExit = kFloorExit;
-                fastOptions.stickWrongWaySlip = true;
-                fastOptions.reuseSupersetPattern = true;
+                o.floorExit = kFloorExit;
+                o.reuseSupersetPattern = true;
             }
             // With a budget the path stops at what is left of the island's grant, as Lemke does.
-            if (budgeted) fastOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
+            if (budgeted) o.maxWork = job.grant > spent ? job.grant - spent : 1;
+            return o;
+        };
+        if (pathFits && nc >= pathMin && (activeSetFirst || bigIsland)) {
+            const std::vector<double> warmImpulses = pathWarm(true);
+            ActiveSetOptions fastOptions = pathSettings();
+            fastOptions.interiorPoint = bigIsland;  // smaller islands have Lemke behind the path (kPathFirstContacts)
+            // 3D landings start farther from their answer (cubes sliding on edges): phase 1 gets more iterations.
+            if (D::kDim == 3) fastOptions.maxIterations = kPathIterations3;
+            if (hugeIsland) fastOptions.stickWrongWaySlip = true;
             // The cache carries this answer's prediction for the next step (ActiveSetOptions::incomingVelocity), which
             // needs the velocity each body brought into the step: its velocity before this step's gravity (dynamic
             // bodies; the others keep moving as they do). Islands of kHugeIslandContacts or more carry the answer
@@ -324,12 +339,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 // budget's grant is (limitFor): on the 2000-circle pile's landing such a Lemke run cost 17-30 times
                 // the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and never finished;
                 // on the 3D drop heap's islands of 373-900 contacts, 0.5-3 s a step, it never finished either.
-                const std::uint64_t unknowns = (kDirs + 2) * std::uint64_t(nc);
-                const std::uint64_t pivots =
-                    std::max<std::uint64_t>(1, pathWork / (work::kPerPivot + 6 * unknowns));
-                options.lcp.maxPivots = int(std::min<std::uint64_t>(std::uint64_t(options.lcp.maxPivots), pivots));
-                const std::uint64_t lemke = pathWork > work::kPerPivot * pivots ? pathWork - work::kPerPivot * pivots : 1;
-                options.lcp.maxWork = options.lcp.maxWork > 0 ? std::min(options.lcp.maxWork, lemke) : lemke;
+                limitLemke(pathWork, (kDirs + 2) * std::uint64_t(nc), options.lcp.maxWork);
             }
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             options.lcp.maxWork = maxWorkBefore;
@@ -355,24 +365,9 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             if (D::kDim == 2 && bigIsland && !(budgeted && spent >= job.grant)) {
                 std::vector<ContactNode<D>> frictionless = inNodes;
                 for (ContactNode<D>& node : frictionless) node.friction = 0.0;
-                std::vector<double> warmNormals;
-                warmNormals.reserve(std::size_t(nc) * std::size_t(1 + D::kDim));
-                for (const PgsWarm<D>& w : setup.impulses) {
-                    warmNormals.push_back(w.normal);
-                    for (int d = 0; d < D::kDim; ++d) warmNormals.push_back(0.0);
-                }
-                ActiveSetOptions smoothOptions;
-                smoothOptions.patternCache = &worker.patterns;
-                smoothOptions.scratch = &worker.activeSet;
-                smoothOptions.coldInteriorPoint = false;
-                if (hugeIsland) {
-                    smoothOptions.floorExit = kFloorExit;
-                    smoothOptions.reuseSupersetPattern = true;
-                }
-                if (budgeted) smoothOptions.maxWork = job.grant > spent ? job.grant - spent : 1;
                 ResolverOptions smoothPath = options;
                 smoothPath.tangentDeadZone = 0.0;
-                Resolution smooth = resolveActiveSet(ioBodies, frictionless, warmNormals, smoothPath, smoothOptions);
+                Resolution smooth = resolveActiveSet(ioBodies, frictionless, pathWarm(false), smoothPath, pathSettings());
                 charge(smooth);
                 if (usable(smooth)) {
                     // Written back as a frictionless answer: no friction impulses, the normal unknowns' basis.
