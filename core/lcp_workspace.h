@@ -310,9 +310,18 @@ struct LemkeSolver::Workspace {
     /// sparse solves, so the border stays a small multiple of the solve cost.
     int maxBorder() const { return std::max(borderLimit, std::max(32, int(std::sqrt(double(k0)) * 4.0))); }
 
-    /// The work of one pivot (the unit of LcpOptions::maxWork): the solves with B0, the border, the w rows.
+    /// The work of one pivot (the unit of LcpOptions::maxWork): the solves with B0, the border, the change of w (the
+    /// entries of A's basic columns, computeDw) and the ratio test over the w rows. The basic columns are what makes a
+    /// 3D pivot dearer than a 2D one of the same size: a 3D contact has six unknowns coupled to every contact of its
+    /// two bodies.
     std::uint64_t pivotCost() const {
-        return 2 * factors[current].work() + std::uint64_t(qb) * std::uint64_t(qb + 2 * k0) + std::uint64_t(n) + 1;
+        std::uint64_t columns = 0;
+        for (int q = 0; q < m; ++q) {
+            const int var = colVar[at(q)];
+            columns += var < n ? std::uint64_t(colStart[at(var) + 1] - colStart[at(var)]) : std::uint64_t(n);
+        }
+        return 2 * factors[current].work() + std::uint64_t(qb) * std::uint64_t(qb + 2 * k0) + columns +
+               std::uint64_t(n) + 1;
     }
 
     /// Makes the current block B0 with a fresh LU and an empty border. False, with nothing changed, when the block

@@ -47,8 +47,8 @@ const Golden kGolden[] = {
     {"spheres3d", 180, 0xc02e72087abe9203ull, 0xb7246fb08473fdd4ull},
     {"bunnies3d", 240, 0x8e2b01043affc298ull, 0xf8ed5214d76f3ddcull},
     {"box_heap3d_path", 90, 0x6c19806223cdbeb5ull, 0x0abde1c20a57be89ull},
-    {"pyramid16_budget", 120, 0x061037aae206169eull, 0x0b8633dab1e0b5f1ull},
-    {"box_heap3d_budget", 180, 0xdebc52dddc7f5e98ull, 0x8d5046f63303fd00ull},
+    {"pyramid16_budget", 120, 0x061037aae206169eull, 0x67dd81cbdd9cb81full},
+    {"box_heap3d_budget", 180, 0x401d4869a41820a7ull, 0xd0402e6066746b8bull},
 };
 // ==================================================================================================================
 
