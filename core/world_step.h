@@ -93,9 +93,10 @@ struct StepStats {
     /// Largest complementarity residual of the exact answers the step applied (an island whose solves all failed
     /// applies nothing and is counted in unsolvedIslands or approximateIslands instead).
     double maxResidual = 0.0;
-    int failedIslands = 0;            ///< friction solves that did not give a usable answer (frictionless LCP tried)
+    int failedIslands = 0;            ///< friction solves that did not give a usable answer (then 2D tries the
+                                      ///< frictionless LCP; 3D applies the approximation: approximateIslands)
     int acceptedInexact = 0;          ///< exact-solve answers accepted by the world's acceptResidual
-    int unsolvedIslands = 0;          ///< islands that got no impulse at all (unlimited budget, both LCPs failed)
+    int unsolvedIslands = 0;          ///< islands that got no impulse at all (2D, unlimited budget, both LCPs failed)
     int exactIslands = 0;             ///< islands with contacts whose LCP was solved
     int activeSetIslands = 0;         ///< friction LCPs answered by the active-set path (resolveActiveSet)
     int interiorPointRestarts = 0;    ///< active-set solves that restarted from the interior-point answer
@@ -270,7 +271,7 @@ private:
     template <class H>
     void solveIsland(H& hooks, Job& job, Worker& worker);
     template <class H>
-    void approximateIsland(H& hooks, Job& job, Worker& worker);
+    void approximateIsland(H& hooks, Job& job, Worker& worker, int sweeps);
     /// The island's answer (setup.bodies) into its dynamic bodies' velocities.
     template <class H>
     void writeVelocities(H& hooks, const IslandSetup& setup) const;
@@ -533,6 +534,8 @@ void WorldStep<D>::solveIslands(H& hooks) {
             job.work = 0;  // kept jobs (planIslands) come with last step's
             job.state = State::pending;
             solveIsland(hooks, job, worker);
+            // A 3D island whose friction solve failed: the approximation with kFailedIslandSweeps3 sweeps.
+            if (job.state == State::failed) approximateIsland(hooks, job, worker, kFailedIslandSweeps3);
             worker.solved.work += job.work;  // (the budgeted passes' jobs are summed in mergeResults)
             finishIsland(hooks, job.island);
         });
@@ -599,7 +602,10 @@ void WorldStep<D>::solveIslands(H& hooks) {
     share = fairShares(demand, left);
     for (int j = 0; j < nj; ++j) mJobs[std::size_t(j)].extra = share[std::size_t(j)];
     runPass([&](Job& job, Worker& worker) {
-        if (job.state != State::exact) approximateIsland(hooks, job, worker);
+        if (job.state == State::exact) return;
+        const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
+        approximateIsland(hooks, job, worker,
+                          work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps)));
     });
 }
 

@@ -1,8 +1,8 @@
 // core/world_step_island.h — the island solve unit of core/world_step.h (included at its end): how one awake island
 // with contacts is made ready (local bodies, the paper's contact nodes with their bias, warm starts from the cache),
-// solved exactly (one Coulomb-pyramid LCP, eq. (19)/(20) plus friction, with the frictionless LCP as fallback and
-// a second, position-only solve for bounces at the time of impact) within a work limit, or approximated
-// (core/pgs.h) when the budget left it unsolved, and how its answer is written back.
+// solved exactly (one Coulomb-pyramid LCP, eq. (19)/(20) plus friction, with the frictionless LCP as the 2D fallback
+// and a second, position-only solve for bounces at the time of impact) within a work limit, or approximated
+// (core/pgs.h) when the budget left it unsolved or a 3D friction solve failed, and how its answer is written back.
 //
 // Owns no state. Every function here reads the hooks' bodies and the step's contacts, writes only the island's own
 // bodies, contacts and Job, and keeps its scratch in the Worker it is given, so islands run on any thread.
@@ -179,16 +179,19 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         spent += res.work + work::kPerPivot * std::uint64_t(res.pivots);
         stats.lcpWork += res.work;
     };
-    // The friction LCP; if it fails, the frictionless LCP keeps the island from falling through (it always has a
-    // solution for approaching contacts between bodies that can move). A frame must not stall, so the friction
-    // solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns, c = hooks.frictionPivotsPerUnknown(): 8 in 2D,
-    // 2 in 3D; kPathLemkePivotsPerUnknown = 2, and no more work than the path spent, behind a path answer that did
-    // not certify on an island of kPathFirstContacts or more, in 3D kPathLemkeWorkCap3). A settled island takes
+    // The friction LCP; if it fails, in 2D the frictionless LCP keeps the island from falling through (it always has
+    // a solution for approaching contacts between bodies that can move), and in 3D the approximation follows
+    // (kFailedIslandSweeps3 sweeps without a budget, the budget's sweeps with one): a failing 3D island is a landing
+    // heap whose frictionless answers let it spread, where the approximation keeps it together.
+    // A frame must not stall, so the friction solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns,
+    // c = hooks.frictionPivotsPerUnknown(): 8 in 2D, 2 in 3D; kPathLemkePivotsPerUnknown = 2, and no more work than
+    // the path spent, behind a path answer that did not certify on an island of kPathFirstContacts or more, in 3D
+    // kPathLemkeWorkCap3, a held near miss included). A settled island takes
     // about n/2, but a tall structure that stands by friction alone takes 2-5n while it lands (cold starts of the
     // card house, n = 400-700), and a cut-off path there is not a stalled one: the frictionless answer lets the
     // structure slide, the next step starts farther from rest, and the island keeps failing until it has collapsed.
     // def.lcp.maxPivots overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
-    // approximated instead); only a failure of another kind tries the frictionless LCP (on a big 2D island the
+    // approximated instead); only a 2D failure of another kind tries the frictionless LCP (on a big island the
     // active-set path first, then Lemke).
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
@@ -196,10 +199,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     std::vector<ResolverBody<D>> pathBodies;  // 3D: the bodies after a path near miss held in reserve
     Resolution pathNearMiss;
+    // A 3D island whose friction solve fails gets the bounded approximation instead of the frictionless LCP
+    // (approximateInstead: the velocity solve; a failed position solve keeps the frictionless fallback).
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
-                     const std::vector<int>* inWarm) {
+                     const std::vector<int>* inWarm, bool approximateInstead) {
         bool reserved = false;
-        bool pathFailed = false;     // a big island whose path answer did not certify (3D: kPathLemkeWorkCap3 or more)
+        bool pathFailed = false;     // a big island whose path answer did not certify (3D: kPathLemkeWorkCap3 or more
+                                     // contacts; a held near miss did not certify either)
         std::uint64_t pathWork = 0;  // the path's own work units on this island
         Resolution res;
         res.status = LcpStatus::pivot_limit;
@@ -311,6 +317,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 ioBodies.swap(pathBodies);  // the bodies before the path; pathBodies holds its near miss
                 pathNearMiss = std::move(fast);
                 reserved = true;
+                pathFailed = bigIsland && nc >= kPathLemkeWorkCap3;
             } else if (usable(fast)) {
                 res = std::move(fast);
                 done = true;
@@ -354,6 +361,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (res.approximate) ++stats.acceptedInexact;
         if (!usable(res) && !(budgeted && res.status == LcpStatus::pivot_limit)) {
             ++stats.failedIslands;
+            approximateInstead = approximateInstead && D::kDim == 3;
             const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
             const std::uint64_t spentWork = res.work;
             bool answered = false;
@@ -384,7 +392,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 }
             }
             options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
-            if (!answered && limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
+            if (!answered && !approximateInstead && limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
                 options.lcp.warmBasis = nullptr;
                 res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
                 charge(res);
@@ -401,13 +409,13 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         return res;
     };
     const std::vector<ResolverBody<D>> before = setup.split ? rb : std::vector<ResolverBody<D>>{};
-    Resolution r = solve(rb, nodes, &setup.warm);
+    Resolution r = solve(rb, nodes, &setup.warm, true);
     if (!setup.warm.empty()) ++stats.warmStartedIslands;
     if (setup.split && usable(r)) {
         // The position solve (see the bias comment in prepareIsland), warm-started from the velocity solve's basis.
         std::vector<ResolverBody<D>> moved = before;
         for (int ci = 0; ci < nc; ++ci) nodes[std::size_t(ci)].bias = setup.positionBias[std::size_t(ci)];
-        const Resolution rp = solve(moved, nodes, &r.basis);
+        const Resolution rp = solve(moved, nodes, &r.basis, false);
         if (usable(rp)) {
             for (int kk = 0; kk < int(setup.local.size()); ++kk) {
                 const int d = setup.local[std::size_t(kk)];
@@ -418,10 +426,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     }
     job.work += spent;
     if (budgeted && spent > job.grant) stats.overrun += spent - job.grant;
-    if (!usable(r)) {  // no impulse this step: the approximation follows when there is a budget
+    if (!usable(r)) {  // no impulse this step: the approximation follows when there is a budget, and in 3D
         job.state = budgeted ? (r.status == LcpStatus::pivot_limit ? Job::State::ranOut : Job::State::failed)
-                             : Job::State::unsolved;
-        if (!budgeted) ++stats.unsolvedIslands;
+                             : D::kDim == 3 ? Job::State::failed : Job::State::unsolved;
+        if (job.state == Job::State::unsolved) ++stats.unsolvedIslands;
         return;
     }
     job.state = Job::State::exact;
@@ -474,13 +482,11 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
 
 template <class D>
 template <class H>
-void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker) {
+void WorldStep<D>::approximateIsland(H& hooks, Job& job, Worker& worker, int sweeps) {
     const auto& def = hooks.def();
     prepareIsland(hooks, job, worker);
     IslandSetup& setup = worker.setup;
     const int nc = int(setup.nodes.size());
-    const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
-    const int sweeps = work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps));
     const PgsResult<D> p = solvePgs(setup.bodies, setup.nodes, setup.impulses, sweeps, def.restitutionThreshold, worker.pgs);
     job.work += job.minimum - std::uint64_t(work::kMinSweeps) * job.sweepWork + std::uint64_t(sweeps) * job.sweepWork;
     job.state = Job::State::approximate;

@@ -96,6 +96,31 @@ TEST_CASE("a box landing on a sleeping box wakes it, and both come to rest stack
     CHECK(world.stats().failedIslands == 0);
 }
 
+TEST_CASE("a failed 2D friction solve falls back to the frictionless LCP, and the step counts both solves' pivots") {
+    // With every LCP capped at 4 pivots a box landing while sliding cannot finish its friction LCP (normals, both
+    // tangent directions and slacks enter), and the frictionless LCP of its two normals can.
+    WorldDef2 capped;
+    capped.enableSleep = false;
+    capped.lcp.maxPivots = 4;
+    World2 w(capped);
+    const BodyId box = addGroundAndBox(w, 0.51);
+    REQUIRE(w.setVelocity(box, {2.0, -1.0}, 0.0));
+    int failedSteps = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double vx = w.state(box)->velocity.x;
+        w.step();
+        const StepStats2& c = w.stats();
+        if (c.failedIslands == 0) continue;
+        ++failedSteps;
+        CHECK(c.unsolvedIslands == 0);
+        CHECK(c.approximateIslands == 0);
+        CHECK(c.pivots > capped.lcp.maxPivots);  // the failed friction solve's pivots and the fallback's
+        CHECK(c.maxIslandPivots == c.pivots);
+        CHECK(w.state(box)->velocity.x == doctest::Approx(vx).epsilon(1e-12));  // no friction in the answer
+    }
+    CHECK(failedSteps > 0);
+}
+
 TEST_CASE("the contact list holds every contact of the step once: sleeping, awake, budgeted, on any thread count") {
     // A box asleep on the ground and a second one landing far from it: the step writes each island's contacts as
     // it finishes the island (a sleeping one as found), so every entry must name the step's own bodies, and a

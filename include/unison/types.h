@@ -55,8 +55,8 @@ struct StepInfo {
     std::uint64_t overrun = 0;      ///< work of exact attempts beyond their share (the solver checks between pivots)
     int exactIslands = 0;           ///< islands with contacts whose LCP was solved exactly
     int activeSetIslands = 0;       ///< of which answered by the 2D active-set path (docs/solver.md), not Lemke
-    int approximateIslands = 0;     ///< islands the budget left to the bounded approximation
-    int failedIslands = 0;          ///< friction solves that fell back to the frictionless problem
+    int approximateIslands = 0;     ///< islands given the bounded approximation (by the budget, or a failed 3D solve)
+    int failedIslands = 0;          ///< failed friction solves (then 2D: the frictionless LCP; 3D: the approximation)
     int unsolvedIslands = 0;        ///< islands that got no impulse at all
     double maxResidual = 0.0;       ///< largest complementarity residual of an exact answer the step applied
     double maxApproximateResidual = 0.0;  ///< largest residual of an approximate island's answer

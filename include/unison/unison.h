@@ -118,8 +118,8 @@ typedef struct unisonStepInfo {
     uint64_t minimumWork;          /**< what no budget can cut; work <= max(budget, minimumWork) + overrun */
     uint64_t overrun;              /**< work of exact attempts beyond their share */
     int exactIslands;              /**< islands with contacts solved exactly */
-    int approximateIslands;        /**< islands the budget left to the bounded approximation */
-    int failedIslands;             /**< friction solves that fell back to the frictionless problem */
+    int approximateIslands;        /**< islands given the bounded approximation (budget, or a failed 3D solve) */
+    int failedIslands;             /**< failed friction solves (then 2D: the frictionless LCP; 3D: the approximation) */
     int unsolvedIslands;           /**< islands that got no impulse */
     double maxResidual;            /**< largest complementarity residual of an exact answer applied */
     double maxApproximateResidual; /**< largest residual of an approximate island's answer */
