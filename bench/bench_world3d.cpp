@@ -278,7 +278,8 @@ nlohmann::json runPile(const std::string& title, const nlohmann::json& scene, in
     std::printf("  Unison largest complementarity residual = %.2e (target <= 1e-6): %s; islands whose friction LCP "
                 "failed (fallbacks, target 0): %d\n", un.maxResidual, verdict(un.maxResidual <= 1e-6), un.failed);
     if (un.failed > 0)
-        std::printf("  the failed islands got the approximation: its largest residual %.2e\n", un.maxApproximateResidual);
+        std::printf("  the failed islands got the approximation: its largest residual %.2e\n",
+                    un.maxApproximateResidual);
     out["unison_over_si"] = u / si;
     out["unison_worst_over_si_worst"] = worstRatio;
     out["mlcp_over_unison"] = mlcp / u;

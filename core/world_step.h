@@ -604,8 +604,8 @@ void WorldStep<D>::solveIslands(H& hooks) {
     runPass([&](Job& job, Worker& worker) {
         if (job.state == State::exact) return;
         const std::uint64_t extraSweeps = job.sweepWork > 0 ? job.extra / job.sweepWork : 0;
-        approximateIsland(hooks, job, worker,
-                          work::kMinSweeps + int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps)));
+        const int more = int(std::min<std::uint64_t>(extraSweeps, work::kMaxSweeps - work::kMinSweeps));
+        approximateIsland(hooks, job, worker, work::kMinSweeps + more);
     });
 }
 

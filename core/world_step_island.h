@@ -392,7 +392,8 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
                 }
             }
             options.lcp.maxPivots = def.lcp.maxPivots > 0 ? def.lcp.maxPivots : 10 * nc + 1000;
-            if (!answered && !approximateInstead && limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
+            if (!answered && !approximateInstead &&
+                limitFor(world_step_detail::assemblyWork(std::uint64_t(nc)), 0, std::uint64_t(nc))) {
                 options.lcp.warmBasis = nullptr;
                 res = resolveCollisions(ioBodies, inNodes, options, worker.solver);
                 charge(res);

@@ -130,9 +130,9 @@ struct LcpOptions {
 struct LcpResult {
     LcpStatus status = LcpStatus::invalid_input;
     int pivots = 0;              ///< basis exchanges performed (warm-start factorisation counts as none)
-    std::uint64_t work = 0;      ///< deterministic work units: sum over pivots of 2 nz(B0) + q (q + 2 k0) + nz(A_B) + n + 1
-                                 ///< (B0: the factorised block, k0 x k0, nz = k0^2 when dense; q: border size; A_B: A's
-                                 ///< columns of the basic unknowns, which give the change of w)
+    std::uint64_t work = 0;      ///< deterministic work units: sum over pivots of 2 nz(B0) + q (q + 2 k0) + nz(A_B)
+                                 ///< + n + 1 (B0: the factorised block, k0 x k0, nz = k0^2 when dense; q: border size;
+                                 ///< A_B: A's columns of the basic unknowns, which give the change of w)
     std::vector<double> z;       ///< (n) impulses / unknowns; meaningful when solved
     std::vector<double> w;       ///< (n) w = A z + b for the returned z
     double residual = 0.0;       ///< max_i |min(z_i, w_i)| of the returned (z, w)
