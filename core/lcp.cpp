@@ -233,6 +233,7 @@ LcpResult LemkeSolver::run(Workspace& ws, const double* b, const LcpOptions& opt
 
 LcpResult LemkeSolver::Run::execute() {
     ws.m = 0;
+    ws.basicEntries = 0;
     const int badB = ws.loadB(b);
     if (badB >= 0) {
         result.message = "b has a non-finite entry at " + std::to_string(badB);
@@ -312,6 +313,7 @@ void LemkeSolver::Run::installWarmBasis() {
         ws.posRow[std::size_t(j)] = q;
         ws.colVar[std::size_t(q)] = j;
         ws.posCol[std::size_t(j)] = q;
+        ws.basicEntries += ws.columnEntries(j);
     }
     if (ws.refactor()) {
         warm = true;
@@ -322,6 +324,7 @@ void LemkeSolver::Run::installWarmBasis() {
             ws.posCol[std::size_t(ws.colVar[std::size_t(q)])] = -1;
         }
         ws.m = 0;
+        ws.basicEntries = 0;
         ws.wval.assign(b, b + n);
         ws.wval2 = ws.p;
     }
@@ -701,6 +704,7 @@ void LemkeSolver::Run::exchange(int m, const Candidate& leave) {
         ws.posRow[std::size_t(i)] = m;
         ws.colVar[std::size_t(m)] = enterVar;
         ws.posCol[std::size_t(enterVar)] = m;
+        ws.basicEntries += ws.columnEntries(enterVar);
         ws.zval[std::size_t(m)] = theta;
         ws.zval2[std::size_t(m)] = theta2;
         ws.wval[std::size_t(i)] = 0.0;
@@ -711,6 +715,7 @@ void LemkeSolver::Run::exchange(int m, const Candidate& leave) {
         ws.posCol[std::size_t(leave.var)] = -1;
         ws.colVar[std::size_t(qL)] = enterVar;
         ws.posCol[std::size_t(enterVar)] = qL;
+        ws.basicEntries += ws.columnEntries(enterVar) - ws.columnEntries(leave.var);
         ws.zval[std::size_t(qL)] = theta;
         ws.zval2[std::size_t(qL)] = theta2;
     } else if (!enterIsColumn && !leave.isColumn) {
@@ -739,6 +744,7 @@ void LemkeSolver::Run::exchange(int m, const Candidate& leave) {
             ws.posRow[std::size_t(ws.rowIdx[std::size_t(pe)])] = pe;
         }
         ws.posCol[std::size_t(leave.var)] = -1;
+        ws.basicEntries -= ws.columnEntries(leave.var);
         ws.posRow[std::size_t(enterVar)] = -1;
         ws.wval[std::size_t(enterVar)] = theta;
         ws.wval2[std::size_t(enterVar)] = theta2;

@@ -81,6 +81,7 @@ struct LemkeSolver::Workspace {
     BlockFactor blockFactor;        // the warm-start check's factorisation (keeps its symbolic analysis)
     std::vector<double> bStore;     // b of a problem taken over by takeSparse
     int m = 0;
+    std::uint64_t basicEntries = 0;   // entries of the basic columns of [A | d] (pivotCost), kept with colVar
     std::vector<int> rowIdx, posRow;  // block row p <-> index i (posRow[i] = -1: w_i basic)
     std::vector<int> colVar, posCol;  // block column q <-> variable (0..n-1: z_j, n: z0); posCol has n + 1 entries
     std::vector<double> zval;         // (n + 1) value of the column variable at block position q
@@ -315,13 +316,13 @@ struct LemkeSolver::Workspace {
     /// 3D pivot dearer than a 2D one of the same size: a 3D contact has six unknowns coupled to every contact of its
     /// two bodies.
     std::uint64_t pivotCost() const {
-        std::uint64_t columns = 0;
-        for (int q = 0; q < m; ++q) {
-            const int var = colVar[at(q)];
-            columns += var < n ? std::uint64_t(colStart[at(var) + 1] - colStart[at(var)]) : std::uint64_t(n);
-        }
-        return 2 * factors[current].work() + std::uint64_t(qb) * std::uint64_t(qb + 2 * k0) + columns +
+        return 2 * factors[current].work() + std::uint64_t(qb) * std::uint64_t(qb + 2 * k0) + basicEntries +
                std::uint64_t(n) + 1;
+    }
+
+    /// Entries of column `var` of [A | d] (d, the z0 column, counts n); the columns must be ready.
+    std::uint64_t columnEntries(int var) const {
+        return var < n ? std::uint64_t(colStart[at(var) + 1] - colStart[at(var)]) : std::uint64_t(n);
     }
 
     /// Makes the current block B0 with a fresh LU and an empty border. False, with nothing changed, when the block

@@ -186,21 +186,20 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // A frame must not stall, so the friction solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns,
     // c = hooks.frictionPivotsPerUnknown(): 8 in 2D, 2 in 3D; kPathLemkePivotsPerUnknown = 2, and no more work than
     // the path spent, behind a path answer that did not certify on an island of kPathFirstContacts or more, in 3D
-    // kPathLemkeWorkCap3, a held near miss included). A settled island takes
-    // about n/2, but a tall structure that stands by friction alone takes 2-5n while it lands (cold starts of the
-    // card house, n = 400-700), and a cut-off path there is not a stalled one: the frictionless answer lets the
-    // structure slide, the next step starts farther from rest, and the island keeps failing until it has collapsed.
-    // def.lcp.maxPivots overrides both caps. With a budget, a friction solve that ran out of work ends the attempt (the island is
-    // approximated instead); only a 2D failure of another kind tries the frictionless LCP (on a big island the
-    // active-set path first, then Lemke).
+    // kPathLemkeWorkCap3, a held near miss included). A settled island takes about n/2, but a tall structure that
+    // stands by friction alone takes 2-5n while it lands (cold starts of the card house, n = 400-700), and a cut-off
+    // path there is not a stalled one: the frictionless answer lets the structure slide, the next step starts farther
+    // from rest, and the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a
+    // budget, a friction solve that ran out of work ends the attempt (the island is approximated instead); only a 2D
+    // failure of another kind tries the frictionless LCP (on a big island the active-set path first, then Lemke).
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
     const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
     auto usable = [](const Resolution& res) { return res.status == LcpStatus::solved || res.approximate; };
     std::vector<ResolverBody<D>> pathBodies;  // 3D: the bodies after a path near miss held in reserve
     Resolution pathNearMiss;
-    // A 3D island whose friction solve fails gets the bounded approximation instead of the frictionless LCP
-    // (approximateInstead: the velocity solve; a failed position solve keeps the frictionless fallback).
+    // approximateInstead: a failed friction solve ends the attempt, and the bounded approximation follows instead of
+    // the frictionless LCP (3D velocity solves; a failed 3D position solve keeps the frictionless fallback).
     auto solve = [&](std::vector<ResolverBody<D>>& ioBodies, const std::vector<ContactNode<D>>& inNodes,
                      const std::vector<int>* inWarm, bool approximateInstead) {
         bool reserved = false;
@@ -311,18 +310,17 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
             Resolution fast = resolveActiveSet(ioBodies, inNodes, warmImpulses, pathOptions, fastOptions);
             charge(fast);
             pathWork = fast.work;
-            pathFailed = bigIsland && !usable(fast) && (D::kDim == 2 || nc >= kPathLemkeWorkCap3);
             if (fast.interiorPoint) ++stats.interiorPointRestarts;
             if (usable(fast) && reserveNearMiss && fast.approximate && fast.scaledResidual > kPathAccept3) {
                 ioBodies.swap(pathBodies);  // the bodies before the path; pathBodies holds its near miss
                 pathNearMiss = std::move(fast);
                 reserved = true;
-                pathFailed = bigIsland && nc >= kPathLemkeWorkCap3;
             } else if (usable(fast)) {
                 res = std::move(fast);
                 done = true;
                 ++stats.activeSetIslands;
             }
+            pathFailed = bigIsland && !done && (D::kDim == 2 || nc >= kPathLemkeWorkCap3);
         }
         auto useReserve = [&]() {
             ioBodies.swap(pathBodies);
@@ -361,7 +359,6 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (res.approximate) ++stats.acceptedInexact;
         if (!usable(res) && !(budgeted && res.status == LcpStatus::pivot_limit)) {
             ++stats.failedIslands;
-            approximateInstead = approximateInstead && D::kDim == 3;
             const int spentPivots = res.pivots;  // the failed friction solve's pivots count too
             const std::uint64_t spentWork = res.work;
             bool answered = false;
@@ -410,7 +407,7 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         return res;
     };
     const std::vector<ResolverBody<D>> before = setup.split ? rb : std::vector<ResolverBody<D>>{};
-    Resolution r = solve(rb, nodes, &setup.warm, true);
+    Resolution r = solve(rb, nodes, &setup.warm, D::kDim == 3);
     if (!setup.warm.empty()) ++stats.warmStartedIslands;
     if (setup.split && usable(r)) {
         // The position solve (see the bias comment in prepareIsland), warm-started from the velocity solve's basis.
