@@ -145,6 +145,15 @@ constexpr int kPathFirstContacts3 = 32;
 /// steps, the toppling heap's 300 and every test, Lemke finished on islands of 82-192 contacts (251-1722 pivots) and
 /// on none of 373 contacts or more (each at its cap of 2 pivots per unknown: 4576-10,228 pivots, 0.5-3 s a step).
 constexpr int kPathLemkeWorkCap3 = 256;
+/// The share of the path's work units that Lemke gets behind an uncertified path answer on those islands (2D: of
+/// kPathFirstContacts or more, 3D: of kPathLemkeWorkCap3 or more, a held near miss included): a quarter. With the
+/// whole of the path's work, none of 101 such solves finished (the 100-cube drop heap's 300 steps: 54 at the limit,
+/// 1 on a secondary ray; the 2000-circle pile's first 65 steps: 22; every test: 24; no other benchmark scene has
+/// one), and they were half of those steps' time: the drop heap 17.8 ms/step, the pile's 65 steps 146 ms/step. With
+/// a quarter, the same answers to the bit, 13.0 and 106 ms/step, and Lemke still has the pivots to repair a warm
+/// start a few hundred basis changes from an answer (225-400 on the drop heap's islands of 339-718 contacts; an
+/// eighth: 150-240, 11.8 ms/step).
+constexpr int kPathLemkeWorkShare = 4;
 /// Sweeps of the bounded approximation (core/pgs.h, warm from last step's impulses) that a 3D island gets when its
 /// friction solve fails with no budget, in place of the frictionless LCP (with a budget the budget's approximation
 /// follows, as for an island that ran out of work). On the 100-cube drop heap the frictionless answers let the heap

@@ -184,10 +184,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // (kFailedIslandSweeps3 sweeps without a budget, the budget's sweeps with one): a failing 3D island is a landing
     // heap whose frictionless answers let it spread, where the approximation keeps it together.
     // A frame must not stall, so the friction solve gets at most c n + 100 pivots (n = (k + 2) nc unknowns,
-    // c = hooks.frictionPivotsPerUnknown(): 8 in 2D, 2 in 3D; kPathLemkePivotsPerUnknown = 2, and no more work than
-    // the path spent, behind a path answer that did not certify on an island of kPathFirstContacts or more, in 3D
-    // kPathLemkeWorkCap3, a held near miss included). A settled island takes about n/2, but a tall structure that
-    // stands by friction alone takes 2-5n while it lands (cold starts of the card house, n = 400-700), and a cut-off
+    // c = hooks.frictionPivotsPerUnknown(): 8 in 2D, 2 in 3D; kPathLemkePivotsPerUnknown = 2, and a quarter of the
+    // path's work (kPathLemkeWorkShare), behind a path answer that did not certify on an island of kPathFirstContacts
+    // or more, in 3D kPathLemkeWorkCap3, a held near miss included). A settled island takes about n/2, but a tall
+    // structure that stands by friction alone takes 2-5n while it lands (cold starts of the card house, n = 400-700), and a cut-off
     // path there is not a stalled one: the frictionless answer lets the structure slide, the next step starts farther
     // from rest, and the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a
     // budget, a friction solve that ran out of work ends the attempt (the island is approximated instead); only a 2D
@@ -334,17 +334,18 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
         if (!done) {
             // Lemke behind a path answer that did not certify on a big island (3D: of kPathLemkeWorkCap3 contacts or
             // more): the smaller cap (the frame must not stall on a solve that measured runs never saw finish;
-            // kPathLemkePivotsPerUnknown, the 3D world's own cap in 3D) and no more work than the path spent, never
-            // above what a budget left it (limitFor).
+            // kPathLemkePivotsPerUnknown, the 3D world's own cap in 3D) and a quarter of the work the path spent
+            // (kPathLemkeWorkShare), never above what a budget left it (limitFor).
             const std::uint64_t maxWorkBefore = options.lcp.maxWork;
             if (pathFailed && def.lcp.maxPivots <= 0) {
                 options.lcp.maxPivots =
                     std::min(options.lcp.maxPivots, kPathLemkePivotsPerUnknown * (k + 2) * nc + 100);
-                // ... and at most the work the path spent, split between pivots and the solver's own units as a
-                // budget's grant is (limitFor): on the 2000-circle pile's landing such a Lemke run cost 17-30 times
-                // the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and never finished;
-                // on the 3D drop heap's islands of 373-900 contacts, 0.5-3 s a step, it never finished either.
-                limitLemke(pathWork, (kDirs + 2) * std::uint64_t(nc), options.lcp.maxWork);
+                // ... and at most a quarter of the work the path spent, split between pivots and the solver's own
+                // units as a budget's grant is (limitFor): on the 2000-circle pile's landing such a Lemke run cost
+                // 17-30 times the path's work (0.3-1.3 s on islands of 450-930 contacts, 18 s on one of 5450) and
+                // never finished; on the 3D drop heap's islands of 373-900 contacts, 0.5-3 s a step, it never
+                // finished either, nor with the whole of the path's work (kPathLemkeWorkShare).
+                limitLemke(pathWork / kPathLemkeWorkShare, (kDirs + 2) * std::uint64_t(nc), options.lcp.maxWork);
             }
             res = resolveWithFriction(ioBodies, inNodes, options, worker.solver);
             options.lcp.maxWork = maxWorkBefore;
