@@ -189,9 +189,10 @@ void WorldStep<D>::solveIsland(H& hooks, Job& job, Worker& worker) {
     // or more, in 3D kPathLemkeWorkCap3, a held near miss included). A settled island takes about n/2, but a tall
     // structure that stands by friction alone takes 2-5n while it lands (cold starts of the card house, n = 400-700),
     // and a cut-off path there is not a stalled one: the frictionless answer lets the structure slide, the next step
-    // starts farther from rest, and the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both caps. With a
-    // budget, a friction solve that ran out of work ends the attempt (the island is approximated instead); only a 2D
-    // failure of another kind tries the frictionless LCP (on a big island the active-set path first, then Lemke).
+    // starts farther from rest, and the island keeps failing until it has collapsed. def.lcp.maxPivots overrides both
+    // caps. With a budget, a friction solve that ran out of work ends the attempt (the island is approximated
+    // instead); only a 2D failure of another kind tries the frictionless LCP (on a big island the active-set path
+    // first, then Lemke).
     // A settled island (every contact marked kSettledEntry with a full run) goes to the active-set path, which sees
     // tangential velocities exactly, unless the path gave it back before (kDeclinedEntry).
     const bool handedOver = D::kDim == 2 && nc > 0 && setup.settledRun == 3 && !setup.declined;
